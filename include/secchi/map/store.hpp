@@ -1,0 +1,88 @@
+#pragma once
+// The photon-store concept: build once from records, then concurrent const queries.
+//
+// Threading contract (every store): the constructor builds the structure; afterwards every
+// const member may be called from any number of threads at once. Results reach the caller
+// through a Collector, in an order fixed by the structure (deterministic for a given build).
+//
+// Queries:
+//  - within(point, r, collector): every record at distance <= r from point
+//    (Hit::t = 0, Hit::distance2 = squared distance).
+//  - along(ray, r, collector): every record inside the cylinder of radius r around the
+//    segment [origin, origin + t_max * direction], flat-capped (manual 3.5: each photon's
+//    "volume of influence" sphere of radius r_s is intersected by the ray). Hit::t is the
+//    distance along the ray of the photon's closest approach, Hit::distance2 the squared
+//    distance from the ray.
+// A Collector is called with each Hit and returns false to stop the search early
+// (nanoflann's result-set idea); the query then returns false.
+#include "secchi/core/math.hpp"
+#include "secchi/core/units.hpp"
+#include "secchi/map/record.hpp"
+#include <concepts>
+#include <cstdint>
+#include <vector>
+
+namespace secchi {
+
+struct Ray {
+    vec3 origin;
+    vec3 direction;  ///< unit vector
+    double t_max;    ///< segment length
+};
+
+struct Hit {
+    std::uint32_t index;  ///< index into the store's records()
+    double t;             ///< distance along the ray (along queries), 0 for within queries
+    double distance2;     ///< squared distance to the query point / ray
+};
+
+template <class C>
+concept Collector = requires(C c, const Hit& h) {
+    { c(h) } -> std::convertible_to<bool>;
+};
+
+/// Collects every hit (never stops early).
+struct CollectAll {
+    std::vector<Hit> hits;
+    bool operator()(const Hit& h) {
+        hits.push_back(h);
+        return true;
+    }
+};
+
+/// Counts hits, stopping after `limit` (limit 0 = unbounded).
+struct CountHits {
+    std::size_t count = 0;
+    std::size_t limit = 0;
+    bool operator()(const Hit&) {
+        ++count;
+        return limit == 0 || count < limit;
+    }
+};
+
+template <class S>
+concept PhotonStore = requires(const S s, vec3 p, Ray ray, Radius r, CollectAll c) {
+    typename S::record_type;
+    requires PhotonRecord<typename S::record_type>;
+    requires std::constructible_from<S, std::vector<typename S::record_type>>;
+    { s.size() } -> std::convertible_to<std::size_t>;
+    { s.records() } -> std::convertible_to<const std::vector<typename S::record_type>&>;
+    { s.within(p, r, c) } -> std::convertible_to<bool>;
+    { s.along(ray, r, c) } -> std::convertible_to<bool>;
+    { s.memory_bytes() } -> std::convertible_to<std::size_t>;
+};
+
+/// Exact closest approach of point p to a ray: fills t and distance2; true if inside the
+/// flat-capped cylinder of squared radius r2.
+inline bool in_cylinder(const Ray& ray, const vec3& p, double r2, Hit& hit) {
+    const vec3 d = p - ray.origin;
+    const double t = glm::dot(d, ray.direction);
+    if (t < 0.0 || t > ray.t_max) return false;
+    const double dist2 = glm::dot(d, d) - t * t;
+    if (dist2 > r2) return false;
+    hit.t = t;
+    hit.distance2 = std::max(0.0, dist2);
+    return true;
+}
+
+}  // namespace secchi

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The main job: Mobley et al. 1993 canonical problems 1a, 1b, 2a, 2b with both photon stores,
+# at the default (full) photon budgets. Writes conformance_kdtree.json, conformance_voi.json
+# and the problem-2a photon-map image photon_map_2a.exr into ./build/conformance-results.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/build.sh
+out=build/conformance-results
+mkdir -p "$out"
+for store in kdtree voi; do
+  build/conformance/canonical --problem all --store "$store" --seed 1 --threads "$(nproc)" \
+    --json "$out/conformance_$store.json" --exr "$out/photon_map_2a.exr"
+done

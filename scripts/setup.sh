@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs secchi's build dependencies from Debian packages (idempotent: installs only what
+# is missing). GLM, Catch2 2.13, OpenEXR 3.1, nanoflann 1.4, plus the compiler and CMake.
+set -euo pipefail
+packages=(g++ cmake ninja-build libglm-dev catch2 libopenexr-dev libnanoflann-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all dependencies present"
+  exit 0
+fi
+echo "setup: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

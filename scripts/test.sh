@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# The test command: installs dependencies, builds, and runs every test (unit tests and the
+# quick conformance checks). The slow, tight conformance run is scripts/conformance.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/build.sh
+ctest --test-dir build --output-on-failure --parallel "$(nproc)"

@@ -1,0 +1,66 @@
+#include <catch2/catch.hpp>
+#include "secchi/core/error.hpp"
+#include "secchi/core/math.hpp"
+#include "secchi/core/rng.hpp"
+#include "secchi/core/stats.hpp"
+#include "secchi/core/units.hpp"
+#include <vector>
+
+using namespace secchi;
+
+TEST_CASE("Philox streams are reproducible and independent") {
+    PhotonRng a(42, 7), b(42, 7), c(42, 8), d(43, 7);
+    for (int i = 0; i < 10; ++i) {
+        const double x = a.uniform();
+        REQUIRE(x == b.uniform());
+        REQUIRE(x > 0.0);
+        REQUIRE(x < 1.0);
+        REQUIRE(x != c.uniform());
+        REQUIRE(x != d.uniform());
+    }
+}
+
+TEST_CASE("Philox uniforms have mean 1/2 and variance 1/12") {
+    // 1e6 draws: the mean's standard error is sqrt(1/12/1e6) = 2.9e-4; 5 SE bound.
+    PhotonRng rng(1, 0);
+    double s = 0, s2 = 0;
+    const int n = 1000000;
+    for (int i = 0; i < n; ++i) {
+        const double u = rng.uniform();
+        s += u;
+        s2 += u * u;
+    }
+    const double mean = s / n, var = s2 / n - mean * mean;
+    REQUIRE(std::abs(mean - 0.5) < 5 * std::sqrt(1.0 / 12.0 / n));
+    REQUIRE(std::abs(var - 1.0 / 12.0) < 1e-3);
+}
+
+TEST_CASE("rotate_direction keeps the scattering angle") {
+    PhotonRng rng(3, 3);
+    for (int i = 0; i < 1000; ++i) {
+        const double mu = 2 * rng.uniform() - 1, ph = two_pi * rng.uniform();
+        const vec3 d = glm::normalize(vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+        const double cpsi = 2 * rng.uniform() - 1;
+        const vec3 out = rotate_direction(d, cpsi, two_pi * rng.uniform());
+        REQUIRE(glm::length(out) == Approx(1.0).margin(1e-12));
+        REQUIRE(glm::dot(out, d) == Approx(cpsi).margin(1e-9));
+        (void)mu;
+        (void)ph;
+    }
+    // the poles
+    REQUIRE(glm::dot(rotate_direction(vec3(0, 0, 1), 0.3, 1.0), vec3(0, 0, 1)) == Approx(0.3));
+    REQUIRE(glm::dot(rotate_direction(vec3(0, 0, -1), 0.3, 1.0), vec3(0, 0, -1)) == Approx(0.3));
+}
+
+TEST_CASE("batch estimate") {
+    std::vector<double> v{1, 2, 3, 4};
+    const auto e = batch_estimate(v);
+    REQUIRE(e.value == Approx(2.5));
+    REQUIRE(e.se == Approx(std::sqrt((2.25 + 0.25 + 0.25 + 2.25) / 3.0 / 4.0)));
+}
+
+TEST_CASE("Radius rejects non-positive values with a message naming it") {
+    REQUIRE_THROWS_AS(Radius(-1.0), input_error);
+    REQUIRE_THROWS_WITH(Radius(0.0), Catch::Contains("radius") && Catch::Contains("0"));
+    REQUIRE(Radius(2.0).squared() == 4.0);
+}
