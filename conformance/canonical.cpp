@@ -1,0 +1,187 @@
+// canonical: Mobley et al. 1993 canonical problems 1a, 1b, 2a, 2b from the photon map,
+// scored against M93 Table 5. For every entry: our value, its standard error, the published
+// mean and spread s/x, our relative error, and pass/fail.
+//
+// Scoring (fixed before any run): an entry passes when
+//   |relative error| <= max(s/x, 3 SE)  and  SE <= max(s/x, 0.5 %)
+// with SE our relative standard error (so a noisy run cannot pass by being noisy). Ed and Eou
+// at every depth and Lu at tau 1 and 5 are scored; Lu at tau 10 is reported only.
+// --quick divides the photon budgets by 20 for the test suite and checks bias only:
+//   |relative error| <= max(s/x, 4 SE)  (4 SE: ~60 checks must not fail by chance).
+#include "m93_table5.hpp"
+#include "photon_map_image.hpp"
+#include "secchi/io/cli.hpp"
+#include "secchi/io/json_writer.hpp"
+#include "secchi/solver/phase_choice.hpp"
+#include "secchi/solver/plane_parallel.hpp"
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+namespace {
+
+using namespace secchi;
+
+constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|all [--photons N] --store kdtree|voi --seed S
+                 --threads T --json FILE [--exr FILE] [--quick]
+Runs Mobley et al. 1993 problems 1 and 2 (sun at 60 deg, flat surface n = 1.34, black sky,
+infinitely deep water, c = 1 /m) and scores them against M93 Table 5. Without --photons each
+problem uses its default budget (see the table printed at the start). --exr (default
+photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
+)";
+
+/// A problem and the default photon budget that meets the scoring bar.
+struct ProblemSpec {
+    std::string id;
+    std::string phase;
+    double albedo;
+    std::uint64_t photons;      ///< photons traced (irradiance detectors)
+    std::uint64_t map_photons;  ///< of which the first ones are stored in the map
+};
+
+const std::vector<ProblemSpec> problems = {
+    {"1a", "rayleigh", 0.9, 2'000'000, 1'000'000},
+    {"1b", "rayleigh", 0.2, 40'000'000, 4'000'000},
+    {"2a", "petzold", 0.9, 2'000'000, 2'000'000},
+    {"2b", "petzold", 0.2, 40'000'000, 4'000'000},
+};
+
+struct Entry {
+    std::string problem;
+    double depth;
+    std::string quantity;
+    Estimate estimate;
+    double reference, spread, relative_error;
+    bool scored, pass;
+};
+
+Entry score(const conformance::ReferenceValue& ref, const Estimate& e, bool quick) {
+    Entry en{std::string(ref.problem), ref.depth, std::string(ref.quantity), e, ref.value, ref.spread, 0, true, false};
+    en.relative_error = (e.value - ref.value) / ref.value;
+    const double rel_se = e.se / std::abs(e.value);
+    en.scored = !(ref.quantity == "Lu" && ref.depth >= 10);
+    en.pass = quick ? std::abs(en.relative_error) <= std::max(ref.spread, 4 * rel_se)
+                    : std::abs(en.relative_error) <= std::max(ref.spread, 3 * rel_se) &&
+                          rel_se <= std::max(ref.spread, 0.005);
+    return en;
+}
+
+PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool quick) {
+    PlaneParallelConfig cfg;
+    cfg.albedo = p.albedo;
+    cfg.sun_zenith_deg = 60.0;
+    cfg.water_index = 1.34;
+    auto& t = cfg.transport;
+    t.depths = {1.0, 5.0, 10.0};
+    const std::uint64_t divisor = quick ? 20 : 1;
+    t.photons = cl.count("photons", p.photons / divisor);
+    t.map_photons = std::min(t.photons, p.map_photons / divisor);
+    t.seed = cl.count("seed", 1);
+    t.threads = static_cast<unsigned>(cl.count("threads", 1));
+    t.absorption = AbsorptionMode::implicit_capture;
+    cfg.store = parse_store(cl.required_text("store"));
+    cfg.keep_map = p.id == "2a";
+    return cfg;
+}
+
+void print_entry(const Entry& e) {
+    std::printf("%-4s %5.0f  %-4s %11.4e %9.2e %10.3e %7.3f %+8.2f%% %7.2f%%  %s\n", e.problem.c_str(), e.depth,
+                e.quantity.c_str(), e.estimate.value, e.estimate.se, e.reference, e.spread, 100 * e.relative_error,
+                100 * e.estimate.se / std::abs(e.estimate.value), !e.scored ? "(reported)" : e.pass ? "pass" : "FAIL");
+}
+
+void write_json(const std::vector<Entry>& entries, double seconds, const std::string& path) {
+    std::ofstream os(path);
+    if (!os) reject("--json", path, "cannot be opened for writing");
+    JsonWriter j(os);
+    j.begin_object().begin_array("entries");
+    for (const auto& e : entries)
+        j.begin_object()
+            .value("problem", e.problem)
+            .value("depth", e.depth)
+            .value("depth_unit", "tau")
+            .value("quantity", e.quantity)
+            .value("value", e.estimate.value)
+            .value("se", e.estimate.se)
+            .value("reference", e.reference)
+            .value("spread", e.spread)
+            .value("relative_error", e.relative_error)
+            .value("scored", e.scored)
+            .value("pass", e.pass)
+            .end_object();
+    j.end_array().value("seconds", seconds).end_object();
+}
+
+Estimate quantity_of(const DepthResult& d, std::string_view q) {
+    if (q == "Ed") return d.irradiance[Ed];
+    if (q == "Eou") return d.irradiance[Eou];
+    return d.lu;
+}
+
+std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool quick, const std::string& exr) {
+    const auto cfg = config_for(p, cl, quick);
+    std::printf("-- problem %s: %s, w0 = %.1f, %llu photons (%llu in the map), store %s\n", p.id.c_str(),
+                p.phase.c_str(), p.albedo, static_cast<unsigned long long>(cfg.transport.photons),
+                static_cast<unsigned long long>(cfg.transport.map_photons), to_string(cfg.store).c_str());
+    std::fflush(stdout);
+    const auto r = std::visit([&](const auto& ph) { return solve_plane_parallel(ph, cfg); }, parse_phase(p.phase));
+    std::printf("   %.1f s (transport %.1f, map build %.1f, collection %.1f); %llu stored; energy imbalance %.1e\n",
+                r.seconds, r.seconds_transport, r.seconds_build, r.seconds_collect,
+                static_cast<unsigned long long>(r.photons_stored), r.ledger.imbalance());
+    std::vector<Entry> out;
+    for (const auto& ref : conformance::m93_table5) {
+        if (ref.problem != p.id) continue;
+        for (const auto& d : r.depths)
+            if (d.depth == ref.depth) out.push_back(score(ref, quantity_of(d, ref.quantity), quick));
+    }
+    if (!r.map.empty() && !exr.empty()) {
+        conformance::write_exr(
+            conformance::project_photon_map(r.map, cfg.section_width, 12.0, r.flux_per_map_photon), exr);
+        std::printf("   photon map image: %s\n", exr.c_str());
+    }
+    return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--help") {
+            std::cout << usage;
+            return 0;
+        }
+    try {
+        const CommandLine cl(argc, argv, {"problem", "photons", "store", "seed", "threads", "json", "exr"}, {"quick"});
+        const std::string which = cl.required_text("problem");
+        if (which != "all" && std::none_of(problems.begin(), problems.end(), [&](auto& p) { return p.id == which; }))
+            reject("--problem", which, "must be 1a, 1b, 2a, 2b or all");
+        const bool quick = cl.has("quick");
+        const std::string json = cl.text("json");
+        const std::string exr =
+            cl.text("exr", json.empty() ? "" : (std::filesystem::path(json).parent_path() / "photon_map_2a.exr").string());
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<Entry> entries;
+        for (const auto& p : problems)
+            if (which == "all" || which == p.id)
+                for (auto& e : run_problem(p, cl, quick, exr)) entries.push_back(std::move(e));
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("\n%-4s %5s  %-4s %11s %9s %10s %7s %9s %8s\n", "prob", "tau", "qty", "value", "se", "M93 mean",
+                    "s/x", "rel.err", "rel.se");
+        int failures = 0, scored = 0;
+        for (const auto& e : entries) {
+            print_entry(e);
+            scored += e.scored;
+            failures += e.scored && !e.pass;
+        }
+        std::printf("\n%d of %d scored entries pass (%s rule); %.1f s\n", scored - failures, scored,
+                    quick ? "quick: |err| <= max(s/x, 4 SE)" : "|err| <= max(s/x, 3 SE), SE <= max(s/x, 0.5%)",
+                    seconds);
+        if (!json.empty()) write_json(entries, seconds, json);
+        return failures == 0 ? 0 : 1;
+    } catch (const input_error& e) {
+        std::cerr << "canonical: " << e.what() << "\n" << usage;
+        return 2;
+    }
+}

@@ -1,0 +1,74 @@
+#pragma once
+// A small command-line reader for the example programs: --name value options, typed
+// getters with defaults, and a usage error (exit status 2) naming the option and value.
+#include "secchi/core/error.hpp"
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace secchi {
+
+class CommandLine {
+public:
+    /// `known`: option names without dashes; `flags`: options that take no value.
+    CommandLine(int argc, char** argv, std::set<std::string> known, std::set<std::string> flags = {}) {
+        for (int i = 1; i < argc; ++i) {
+            std::string arg = argv[i];
+            if (arg.rfind("--", 0) != 0) reject("argument", arg, "expected --option");
+            const std::string name = arg.substr(2);
+            if (!known.count(name) && !flags.count(name)) reject("option", arg, "unknown option");
+            if (flags.count(name)) {
+                values_[name] = "1";
+                continue;
+            }
+            if (i + 1 >= argc) reject("option", arg, "needs a value");
+            values_[name] = argv[++i];
+        }
+    }
+    [[nodiscard]] bool has(const std::string& name) const { return values_.count(name) != 0; }
+    [[nodiscard]] std::string text(const std::string& name, const std::string& fallback = "") const {
+        auto it = values_.find(name);
+        return it == values_.end() ? fallback : it->second;
+    }
+    [[nodiscard]] std::string required_text(const std::string& name) const {
+        if (!has(name)) reject("option --" + name, "(missing)", "is required");
+        return text(name);
+    }
+    [[nodiscard]] double number(const std::string& name, double fallback) const {
+        return has(name) ? parse<double>(name, text(name)) : fallback;
+    }
+    [[nodiscard]] std::uint64_t count(const std::string& name, std::uint64_t fallback) const {
+        if (!has(name)) return fallback;
+        const std::string t = text(name);
+        // accept 1e6-style counts
+        const double v = parse<double>(name, t);
+        if (v < 0 || v != std::floor(v) || v > 1e18) reject("--" + name, t, "must be a non-negative whole number");
+        return static_cast<std::uint64_t>(v);
+    }
+    [[nodiscard]] std::vector<double> numbers(const std::string& name, std::vector<double> fallback) const {
+        if (!has(name)) return fallback;
+        std::vector<double> out;
+        std::stringstream ss(text(name));
+        for (std::string item; std::getline(ss, item, ',');) out.push_back(parse<double>(name, item));
+        if (out.empty()) reject("--" + name, text(name), "needs at least one number");
+        return out;
+    }
+
+private:
+    template <class T>
+    static T parse(const std::string& name, const std::string& t) {
+        T v{};
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (ec != std::errc{} || end != t.data() + t.size() || !std::isfinite(static_cast<double>(v)))
+            reject("--" + name, t, "is not a number");
+        return v;
+    }
+    std::map<std::string, std::string> values_;
+};
+
+}  // namespace secchi

@@ -1,0 +1,387 @@
+#pragma once
+// The left-balanced k-d tree photon store (Jensen 2001, "Realistic Image Synthesis Using
+// Photon Mapping", ch. 6; manual 3.4.1-3.4.4).
+//
+// Layout: the records themselves are the tree. They are reordered into the heap order of a
+// left-balanced binary tree: node i has children 2i+1 and 2i+2, no pointers (Jensen 2001,
+// sec. 6.3; manual 3.4.1). Each internal node splits its subset at the median along the axis
+// of largest extent of the subset (manual eq. 3.19 context: "the key with the largest
+// spread"); records in the left subtree have coordinate <= the node's, records in the right
+// subtree >= it. Jensen keeps the split axis inside the photon; the 16-byte CompactRecord has
+// no spare bits, so the axes live in a side array of uint8_t, 2 bits per internal node
+// (leaves, the last half of the heap, need none): 1/8 byte per photon.
+//
+// Build: deterministic (std::nth_element on a fixed input order, no randomness).
+// Queries: iterative with a fixed-size stack (no recursion, no allocation in within/along).
+//  - within(p, r): Jensen's locate_photons, pruning a far subtree when the query point's
+//    squared distance to the splitting plane exceeds r^2.
+//  - along(ray, r): descends with each subtree's bounding box (the root box clipped at the
+//    splitting planes) and prunes a subtree whose box, padded by r, the ray segment misses
+//    (slab test, the manual's VOI idea of 3.5); each visited node's record is tested with
+//    in_cylinder.
+//  - nearest(p, k): the k nearest records, sorted by (distance, index).
+//
+// Threading contract: build once (the constructor); afterwards every const member may be
+// called from any number of threads at once (queries only read the store).
+//
+// This header also holds the search helpers shared by the other stores (nanoflann_store.hpp,
+// voi_octree.hpp): the traversal stack, the rounding-safe pruning bounds, the padded-segment
+// slab test and the k-best list.
+#include "secchi/core/error.hpp"
+#include "secchi/map/store.hpp"
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cassert>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace secchi {
+namespace detail {
+
+inline constexpr double infinity = std::numeric_limits<double>::infinity();
+
+/// Axis-aligned box in double precision (an aggregate, so traversal stacks stay trivial).
+struct Box {
+    vec3 lo, hi;
+};
+
+/// The empty box (grows to the first point).
+inline Box empty_box() { return {vec3(infinity), vec3(-infinity)}; }
+
+/// Bounding box of the records' positions.
+template <PhotonRecord Record>
+Box bounding_box(const std::vector<Record>& records) {
+    Box box = empty_box();
+    for (const Record& rec : records) {
+        box.lo = glm::min(box.lo, rec.position());
+        box.hi = glm::max(box.hi, rec.position());
+    }
+    return box;
+}
+
+/// Photon counts are limited by the 32-bit Hit::index.
+inline void require_indexable(std::size_t count) {
+    require(count <= std::numeric_limits<std::uint32_t>::max(), "photon count", count,
+            "exceeds 2^32 - 1 (Hit::index is 32-bit)");
+}
+
+/// A stack of at most N entries in automatic storage: the traversal stack of the queries
+/// (no recursion, no allocation). Each use proves its depth bound next to its capacity.
+template <class T, std::size_t N>
+class FixedStack {
+public:
+    void push(const T& item) {
+        assert(size_ < N);
+        items_[size_++] = item;
+    }
+    T pop() { return items_[--size_]; }
+    [[nodiscard]] bool empty() const { return size_ == 0; }
+
+private:
+    std::array<T, N> items_;
+    std::size_t size_ = 0;
+};
+
+// Rounding-safe pruning. A store must report exactly the records the brute-force oracle
+// accepts, so a subtree is pruned only when rounding cannot make the oracle's exact test
+// accept one of its records.
+
+/// Squared radius for sphere pruning: r^2 (1 + 1e-9). Squared distances to a box or plane
+/// are rounded by a few ulps (1e-16 relative) and never exceed the rounded squared distance
+/// to a record inside, so no record with dot(d, d) <= r^2 is pruned.
+inline double pruning_radius2(double r2) { return r2 * (1.0 + 1e-9); }
+
+/// Radius by which to pad boxes for along() pruning. in_cylinder computes
+/// dist^2 = |d|^2 - t^2: cancellation loses up to ~10 ulp of |d|^2, where |d| <= t_max + r for
+/// an accepted record, and a direction off unit length by delta shifts dist^2 by up to
+/// 2 delta t^2 and t by delta t. The pad covers both with a wide margin (1e-13 |d|^2 and
+/// 1e-9 |d|), plus the rounding of the slab test itself.
+inline double pruning_pad(const Ray& ray, double r2) {
+    const double len = ray.t_max + std::sqrt(r2);
+    const double off_unit = std::abs(glm::dot(ray.direction, ray.direction) - 1.0);
+    const double slack2 = (1e-13 + 4.0 * off_unit) * len * len;
+    return std::sqrt(r2 + slack2) + (1e-9 + 2.0 * off_unit) * len;
+}
+
+/// A query segment origin + t direction, t in [0, t_max], prepared once per along() query
+/// for slab tests (Kay & Kajiya 1986) against boxes padded by pruning_pad(ray, r^2): the
+/// manual's "volume of influence" (3.5), with the padding applied at query time.
+class PaddedSegment {
+public:
+    PaddedSegment(const Ray& ray, double r2) : origin_(ray.origin), t_max_(ray.t_max), pad_(pruning_pad(ray, r2)) {
+        for (int a = 0; a < 3; ++a) {
+            // A direction component below 1e-300 moves the segment by < 1e-300 t_max along
+            // that axis, far inside the pad's margin: treat it as parallel (no overflow).
+            parallel_[a] = std::abs(ray.direction[a]) < 1e-300;
+            inv_dir_[a] = parallel_[a] ? 0.0 : 1.0 / ray.direction[a];
+        }
+    }
+
+    [[nodiscard]] double pad() const { return pad_; }
+
+    /// Parameter interval [t0, t1] of the segment inside the box [lo - pad, hi + pad];
+    /// empty (t0 > t1) if the segment misses it.
+    [[nodiscard]] std::pair<double, double> clip(const vec3& lo, const vec3& hi) const {
+        double t0 = 0.0, t1 = t_max_;
+        for (int a = 0; a < 3; ++a) {
+            const double low = lo[a] - pad_, high = hi[a] + pad_;
+            if (parallel_[a]) {
+                if (origin_[a] < low || origin_[a] > high) return {1.0, 0.0};
+                continue;
+            }
+            double ta = (low - origin_[a]) * inv_dir_[a], tb = (high - origin_[a]) * inv_dir_[a];
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta);
+            t1 = std::min(t1, tb);
+            if (t0 > t1) return {t0, t1};
+        }
+        return {t0, t1};
+    }
+
+    /// Does the segment meet the box [lo - pad, hi + pad]?
+    [[nodiscard]] bool meets(const vec3& lo, const vec3& hi) const {
+        const auto [t0, t1] = clip(lo, hi);
+        return t0 <= t1;
+    }
+
+private:
+    vec3 origin_;
+    double t_max_;
+    double pad_;
+    vec3 inv_dir_{};
+    std::array<bool, 3> parallel_{};
+};
+
+/// The k best hits by (distance2, index), kept as a bounded max-heap in the caller's vector
+/// (ties broken by the smaller index, so the result is deterministic).
+class KBest {
+public:
+    KBest(std::size_t k, std::size_t available, std::vector<Hit>& out) : k_(k), out_(out) {
+        out_.clear();
+        out_.reserve(std::min(k, available));
+    }
+
+    static bool before(const Hit& a, const Hit& b) {
+        return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
+    }
+
+    /// Squared distance of the current k-th hit; infinity until k hits are held.
+    [[nodiscard]] double worst2() const { return out_.size() < k_ ? infinity : out_.front().distance2; }
+
+    /// Could a record at squared distance >= bound2 still enter? (rounding-safe, ties enter)
+    [[nodiscard]] bool may_accept(double bound2) const { return bound2 <= pruning_radius2(worst2()); }
+
+    void offer(const Hit& hit) {
+        if (out_.size() < k_) {
+            out_.push_back(hit);
+            std::push_heap(out_.begin(), out_.end(), before);
+        } else if (k_ > 0 && before(hit, out_.front())) {
+            std::pop_heap(out_.begin(), out_.end(), before);
+            out_.back() = hit;
+            std::push_heap(out_.begin(), out_.end(), before);
+        }
+    }
+
+    /// Sorts the hits by (distance2, index).
+    void finish() { std::sort_heap(out_.begin(), out_.end(), before); }
+
+private:
+    std::size_t k_;
+    std::vector<Hit>& out_;
+};
+
+}  // namespace detail
+
+template <PhotonRecord Record>
+class KdTreeStore {
+public:
+    using record_type = Record;
+
+    /// Builds the left-balanced tree (Jensen 2001, sec. 6.3, "balance").
+    explicit KdTreeStore(std::vector<Record> records) {
+        detail::require_indexable(records.size());
+        bounds_ = detail::bounding_box(records);
+        build(records);
+    }
+
+    [[nodiscard]] std::size_t size() const { return heap_.size(); }
+    /// The records in the tree's (heap) order; Hit::index refers to this order.
+    [[nodiscard]] const std::vector<Record>& records() const { return heap_; }
+    /// Records plus the split-axis array (the root box is a member, not allocated).
+    [[nodiscard]] std::size_t memory_bytes() const {
+        return heap_.capacity() * sizeof(Record) + axes_.capacity() * sizeof(std::uint8_t);
+    }
+
+    /// Split axis (0, 1, 2) of internal node i (one with a child: 2i + 1 < size()).
+    [[nodiscard]] int split_axis(std::size_t i) const { return (axes_[i >> 2] >> (2 * (i & 3))) & 3; }
+    [[nodiscard]] bool is_internal(std::size_t i) const { return 2 * i + 1 < heap_.size(); }
+
+    /// Every record at distance <= r from p (Jensen 2001, "locate_photons", made iterative).
+    template <Collector C>
+    bool within(const vec3& p, Radius r, C& collect) const {
+        const double r2 = r.squared(), prune2 = detail::pruning_radius2(r2);
+        Stack<std::uint32_t> stack;
+        if (!heap_.empty()) stack.push(0);
+        while (!stack.empty()) {
+            const std::uint32_t i = stack.pop();
+            const vec3 q = heap_[i].position();
+            if (is_internal(i)) {
+                const double delta = p[split_axis(i)] - q[split_axis(i)];
+                const auto [near, far] = children(i, delta);
+                if (far < heap_.size() && delta * delta <= prune2) stack.push(far);
+                stack.push(near);
+            }
+            const vec3 d = q - p;
+            const double d2 = glm::dot(d, d);
+            if (d2 <= r2 && !collect(Hit{i, 0.0, d2})) return false;
+        }
+        return true;
+    }
+
+    /// Every record in the flat-capped cylinder of radius r around the ray segment.
+    template <Collector C>
+    bool along(const Ray& ray, Radius r, C& collect) const {
+        const double r2 = r.squared();
+        const detail::PaddedSegment segment(ray, r2);
+        Stack<BoxEntry> stack;
+        if (!heap_.empty()) stack.push({0, bounds_});
+        Hit hit{};
+        while (!stack.empty()) {
+            const BoxEntry entry = stack.pop();
+            if (!segment.meets(entry.box.lo, entry.box.hi)) continue;
+            const vec3 q = heap_[entry.node].position();
+            if (is_internal(entry.node)) push_child_boxes(entry, q, stack);
+            if (!in_cylinder(ray, q, r2, hit)) continue;
+            hit.index = entry.node;
+            if (!collect(hit)) return false;
+        }
+        return true;
+    }
+
+    /// The k nearest records to p, sorted by (distance2, index); fewer if size() < k.
+    void nearest(const vec3& p, std::size_t k, std::vector<Hit>& out) const {
+        detail::KBest best(k, heap_.size(), out);
+        Stack<BoundEntry> stack;
+        if (!heap_.empty() && k > 0) stack.push({0, 0.0});
+        while (!stack.empty()) {
+            const BoundEntry entry = stack.pop();
+            if (!best.may_accept(entry.bound2)) continue;
+            const vec3 q = heap_[entry.node].position();
+            if (is_internal(entry.node)) {
+                const double delta = p[split_axis(entry.node)] - q[split_axis(entry.node)];
+                const auto [near, far] = children(entry.node, delta);
+                if (far < heap_.size()) stack.push({far, std::max(entry.bound2, delta * delta)});
+                stack.push({near, entry.bound2});
+            }
+            const vec3 d = q - p;
+            best.offer(Hit{entry.node, 0.0, glm::dot(d, d)});
+        }
+        best.finish();
+    }
+
+private:
+    // Depth-first traversal pushes at most one pending sibling per level plus the current
+    // node: the stack never exceeds depth + 1 <= 33 entries for 2^32 - 1 records.
+    template <class T>
+    using Stack = detail::FixedStack<T, 64>;
+
+    struct BoxEntry {
+        std::uint32_t node;
+        detail::Box box;  ///< bounds of the node's subtree
+    };
+    struct BoundEntry {
+        std::uint32_t node;
+        double bound2;  ///< lower bound on the squared distance to the subtree's records
+    };
+
+    /// (near, far) children of internal node i, given delta = query - split coordinate.
+    static std::pair<std::uint32_t, std::uint32_t> children(std::uint32_t i, double delta) {
+        const std::uint32_t left = 2 * i + 1, right = 2 * i + 2;
+        return delta < 0.0 ? std::pair{left, right} : std::pair{right, left};
+    }
+
+    /// Pushes the children of an internal node with their boxes (the parent's box cut at the
+    /// split plane); the left child is popped first.
+    void push_child_boxes(const BoxEntry& entry, const vec3& q, Stack<BoxEntry>& stack) const {
+        const int a = split_axis(entry.node);
+        const std::uint32_t left = 2 * entry.node + 1, right = left + 1;
+        if (right < heap_.size()) {
+            BoxEntry child{right, entry.box};
+            child.box.lo[a] = q[a];
+            stack.push(child);
+        }
+        BoxEntry child{left, entry.box};
+        child.box.hi[a] = q[a];
+        stack.push(child);
+    }
+
+    /// Size of the left subtree of a left-balanced tree of n nodes: the levels above the last
+    /// are full, and the last level fills from the left (Jensen 2001, sec. 6.3).
+    static std::size_t left_subtree_size(std::size_t n) {
+        if (n <= 1) return 0;
+        const std::size_t last = std::bit_width(n) - 1;               // depth of the last level
+        const std::size_t above = (std::size_t{1} << last) - 1;       // nodes above it
+        const std::size_t last_left = std::size_t{1} << (last - 1);   // its slots under the left child
+        return (above - 1) / 2 + std::min(n - above, last_left);
+    }
+
+    /// Axis of largest extent of records [begin, end) (manual 3.4.1).
+    static int widest_axis(const std::vector<Record>& records, std::size_t begin, std::size_t end) {
+        detail::Box box = detail::empty_box();
+        for (std::size_t i = begin; i < end; ++i) {
+            box.lo = glm::min(box.lo, records[i].position());
+            box.hi = glm::max(box.hi, records[i].position());
+        }
+        const vec3 extent = box.hi - box.lo;
+        if (extent.x >= extent.y && extent.x >= extent.z) return 0;
+        return extent.y >= extent.z ? 1 : 2;
+    }
+
+    void set_split_axis(std::size_t i, int axis) {
+        axes_[i >> 2] = static_cast<std::uint8_t>(axes_[i >> 2] | (axis << (2 * (i & 3))));
+    }
+
+    /// Balances `records` in place (median partitions, each subtree a contiguous range), then
+    /// gathers them into heap order. heap_node[i] is the position of node i's record.
+    void build(std::vector<Record>& records) {
+        const std::size_t n = records.size();
+        axes_.assign((n / 2 + 3) / 4, 0);  // n / 2 internal nodes, 4 per byte
+        std::vector<std::uint32_t> heap_node(n);
+        struct Task {
+            std::uint32_t node, begin, end;
+        };
+        std::vector<Task> tasks;
+        if (n > 0) tasks.push_back({0, 0, static_cast<std::uint32_t>(n)});
+        while (!tasks.empty()) {
+            const Task task = tasks.back();
+            tasks.pop_back();
+            const std::uint32_t median = task.begin + static_cast<std::uint32_t>(left_subtree_size(task.end - task.begin));
+            if (is_internal_of(task.node, n)) {
+                const int axis = widest_axis(records, task.begin, task.end);
+                std::nth_element(records.begin() + task.begin, records.begin() + median, records.begin() + task.end,
+                                 [axis](const Record& a, const Record& b) { return a.position()[axis] < b.position()[axis]; });
+                set_split_axis(task.node, axis);
+                tasks.push_back({2 * task.node + 1, task.begin, median});
+                if (median + 1 < task.end) tasks.push_back({2 * task.node + 2, median + 1, task.end});
+            }
+            heap_node[task.node] = median;
+        }
+        heap_.reserve(n);
+        for (const std::uint32_t at : heap_node) heap_.push_back(records[at]);
+    }
+
+    static bool is_internal_of(std::size_t i, std::size_t n) { return 2 * i + 1 < n; }
+
+    std::vector<Record> heap_;         ///< records in left-balanced heap order
+    std::vector<std::uint8_t> axes_;   ///< split axis of internal node i: 2 bits at i / 4
+    detail::Box bounds_{};             ///< bounding box of all positions (the root's box)
+};
+
+static_assert(PhotonStore<KdTreeStore<CompactRecord>>);
+static_assert(PhotonStore<KdTreeStore<FullRecord>>);
+
+}  // namespace secchi

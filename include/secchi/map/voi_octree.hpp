@@ -1,0 +1,236 @@
+#pragma once
+// The "volume of influence" (VOI) octree store (DIRSIG water manual, section 3.5).
+//
+// Each photon carries a virtual sphere of radius r_s, its volume of influence; a ray collects
+// every photon whose sphere the ray segment intersects, i.e. every photon inside the cylinder
+// of radius r_s around the segment. An octree of axis-aligned boxes lets whole groups be
+// rejected by one failed ray-box test (manual 3.5, fig. 3.8).
+//
+// Build: the root is the bounding box of all positions; a node is divided into 8 equal octants
+// of its cell ("divided into eight equal sized volumes by three planes", 3.5) until it holds
+// <= leaf_size records (default 32, a constructor parameter), reaches depth max_depth (20), or
+// all its records share one position (no division can separate them). Empty octants get no
+// node. The records are reordered (a stable counting sort by octant per division) so every
+// node's records are one contiguous range [begin, end) of records(). Nodes live in one flat
+// vector, built breadth-first: the children of a node are contiguous (first_child,
+// child_count), no pointers. Each node stores the tight bounding box of its records in float,
+// rounded outward so it still contains every double position.
+//
+// Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
+// radius (plus a rounding margin, kdtree.hpp's detail::pruning_pad), applied at query time,
+// so one tree serves any radius.
+//
+// Queries: iterative depth-first traversal with a fixed-size stack (no recursion, no
+// allocation), children visited in fixed octant order (x, then y, then z bit), so the order
+// of the hits is deterministic.
+//  - along(ray, r): skip a node whose box padded by r the segment [0, t_max] misses (slab
+//    test); at a leaf, test each record with in_cylinder.
+//  - within(p, r): skip a node whose box is farther than r from p.
+//
+// Threading contract: build once (the constructor); afterwards every const member may be
+// called from any number of threads at once.
+#include "secchi/map/kdtree.hpp"
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace secchi {
+namespace detail {
+
+/// Squared distance from p to the box [lo, hi] (0 inside).
+inline double box_distance2(const vec3& p, const vec3& lo, const vec3& hi) {
+    const vec3 gap = glm::max(lo - p, vec3(0.0)) + glm::max(p - hi, vec3(0.0));
+    return glm::dot(gap, gap);
+}
+
+/// Largest float <= v and smallest float >= v: float boxes rounded outward.
+inline float float_below(double v) {
+    const float f = static_cast<float>(v);
+    return static_cast<double>(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+inline float float_above(double v) {
+    const float f = static_cast<float>(v);
+    return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+}  // namespace detail
+
+template <PhotonRecord Record>
+class VoiOctreeStore {
+public:
+    using record_type = Record;
+    static constexpr std::size_t default_leaf_size = 32;
+    static constexpr int max_depth = 20;
+
+    explicit VoiOctreeStore(std::vector<Record> records, std::size_t leaf_size = default_leaf_size)
+        : records_(std::move(records)), leaf_size_(leaf_size) {
+        detail::require_indexable(records_.size());
+        require(leaf_size >= 1, "octree leaf size", leaf_size, "must be >= 1");
+        build();
+    }
+
+    [[nodiscard]] std::size_t size() const { return records_.size(); }
+    /// The records in octree order (each node's records contiguous); Hit::index refers to it.
+    [[nodiscard]] const std::vector<Record>& records() const { return records_; }
+    [[nodiscard]] std::size_t memory_bytes() const {
+        return records_.capacity() * sizeof(Record) + nodes_.capacity() * sizeof(Node);
+    }
+    [[nodiscard]] std::size_t node_count() const { return nodes_.size(); }
+    [[nodiscard]] std::size_t leaf_size() const { return leaf_size_; }
+
+    /// Every record in the flat-capped cylinder of radius r around the ray segment: the
+    /// records whose volume of influence the segment intersects (manual 3.5).
+    template <Collector C>
+    bool along(const Ray& ray, Radius r, C& collect) const {
+        const double r2 = r.squared();
+        const detail::PaddedSegment segment(ray, r2);
+        Stack stack;
+        if (!nodes_.empty()) stack.push(0);
+        Hit hit{};
+        while (!stack.empty()) {
+            const Node& node = nodes_[stack.pop()];
+            if (!segment.meets(lower(node), upper(node))) continue;
+            if (node.child_count > 0) {
+                push_children(node, stack);
+                continue;
+            }
+            for (std::uint32_t i = node.begin; i < node.end; ++i) {
+                if (!in_cylinder(ray, records_[i].position(), r2, hit)) continue;
+                hit.index = i;
+                if (!collect(hit)) return false;
+            }
+        }
+        return true;
+    }
+
+    /// Every record at distance <= r from p.
+    template <Collector C>
+    bool within(const vec3& p, Radius r, C& collect) const {
+        const double r2 = r.squared(), prune2 = detail::pruning_radius2(r2);
+        Stack stack;
+        if (!nodes_.empty()) stack.push(0);
+        while (!stack.empty()) {
+            const Node& node = nodes_[stack.pop()];
+            if (detail::box_distance2(p, lower(node), upper(node)) > prune2) continue;
+            if (node.child_count > 0) {
+                push_children(node, stack);
+                continue;
+            }
+            for (std::uint32_t i = node.begin; i < node.end; ++i) {
+                const vec3 d = records_[i].position() - p;
+                const double d2 = glm::dot(d, d);
+                if (d2 <= r2 && !collect(Hit{i, 0.0, d2})) return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    struct Node {
+        std::array<float, 3> lo, hi;    ///< tight box of the node's records, rounded outward
+        std::uint32_t begin, end;       ///< records_[begin, end)
+        std::uint32_t first_child;      ///< index in nodes_ of the first (contiguous) child
+        std::uint32_t child_count;      ///< 0 for a leaf
+    };
+
+    /// Build-time geometry of a node: its octree cell (centre, half extent) and depth.
+    struct Cell {
+        vec3 centre, half;
+        int depth;
+        [[nodiscard]] Cell child(unsigned octant) const {
+            const vec3 h = 0.5 * half;
+            const vec3 sign((octant & 1) ? 1.0 : -1.0, (octant & 2) ? 1.0 : -1.0, (octant & 4) ? 1.0 : -1.0);
+            return {centre + sign * h, h, depth + 1};
+        }
+    };
+
+    // Depth-first: each popped node pushes <= 8 children, so at most 7 pending siblings per
+    // level on the current path plus 8: 7 * max_depth + 8 <= 8 * (max_depth + 1) entries.
+    using Stack = detail::FixedStack<std::uint32_t, 8 * (max_depth + 1)>;
+
+    static vec3 lower(const Node& n) { return {n.lo[0], n.lo[1], n.lo[2]}; }
+    static vec3 upper(const Node& n) { return {n.hi[0], n.hi[1], n.hi[2]}; }
+
+    /// Pushes the children in reverse, so they are popped in octant order.
+    static void push_children(const Node& node, Stack& stack) {
+        for (std::uint32_t c = node.child_count; c-- > 0;) stack.push(node.first_child + c);
+    }
+
+    /// Octant of p in a cell: bit 0 for x >= centre.x, bit 1 for y, bit 2 for z.
+    static unsigned octant(const vec3& p, const vec3& centre) {
+        return (p.x >= centre.x ? 1u : 0u) | (p.y >= centre.y ? 2u : 0u) | (p.z >= centre.z ? 4u : 0u);
+    }
+
+    /// A leaf node over records_[begin, end) with its tight box.
+    Node make_node(std::uint32_t begin, std::uint32_t end) const {
+        detail::Box box = detail::empty_box();
+        for (std::uint32_t i = begin; i < end; ++i) {
+            box.lo = glm::min(box.lo, records_[i].position());
+            box.hi = glm::max(box.hi, records_[i].position());
+        }
+        Node node{};
+        for (int a = 0; a < 3; ++a) {
+            node.lo[a] = detail::float_below(box.lo[a]);
+            node.hi[a] = detail::float_above(box.hi[a]);
+        }
+        node.begin = begin;
+        node.end = end;
+        return node;
+    }
+
+    /// Breadth-first build: nodes are divided in index order, so children are appended
+    /// contiguously after all existing nodes.
+    void build() {
+        if (records_.empty()) return;
+        const detail::Box box = detail::bounding_box(records_);
+        std::vector<Cell> cells{{0.5 * (box.lo + box.hi), 0.5 * (box.hi - box.lo), 0}};
+        nodes_.push_back(make_node(0, static_cast<std::uint32_t>(records_.size())));
+        std::vector<Record> scratch;
+        for (std::size_t i = 0; i < nodes_.size(); ++i) {
+            if (should_divide(nodes_[i], cells[i])) divide(i, cells, scratch);
+        }
+        nodes_.shrink_to_fit();
+    }
+
+    bool should_divide(const Node& node, const Cell& cell) const {
+        // lo == hi only if every position is the same float value (the box is rounded outward).
+        const bool single_position = node.lo == node.hi;
+        return node.end - node.begin > leaf_size_ && cell.depth < max_depth && !single_position;
+    }
+
+    /// Divides node i into its non-empty octants: a stable counting sort of its records by
+    /// octant, then one child node per non-empty octant.
+    void divide(std::size_t i, std::vector<Cell>& cells, std::vector<Record>& scratch) {
+        const Node node = nodes_[i];
+        const Cell cell = cells[i];
+        std::array<std::uint32_t, 9> start{};
+        for (std::uint32_t k = node.begin; k < node.end; ++k) ++start[octant(records_[k].position(), cell.centre) + 1];
+        for (unsigned o = 0; o < 8; ++o) start[o + 1] += start[o];
+        std::array<std::uint32_t, 8> cursor{};
+        std::copy(start.begin(), start.end() - 1, cursor.begin());
+        scratch.assign(node.end - node.begin, records_[node.begin]);
+        for (std::uint32_t k = node.begin; k < node.end; ++k)
+            scratch[cursor[octant(records_[k].position(), cell.centre)]++] = records_[k];
+        std::copy(scratch.begin(), scratch.end(), records_.begin() + node.begin);
+
+        nodes_[i].first_child = static_cast<std::uint32_t>(nodes_.size());
+        for (unsigned o = 0; o < 8; ++o) {
+            if (start[o] == start[o + 1]) continue;
+            nodes_.push_back(make_node(node.begin + start[o], node.begin + start[o + 1]));
+            cells.push_back(cell.child(o));
+            ++nodes_[i].child_count;
+        }
+    }
+
+    std::vector<Record> records_;  ///< in octree order
+    std::vector<Node> nodes_;      ///< nodes_[0] is the root; children contiguous
+    std::size_t leaf_size_;
+};
+
+static_assert(PhotonStore<VoiOctreeStore<CompactRecord>>);
+static_assert(PhotonStore<VoiOctreeStore<FullRecord>>);
+
+}  // namespace secchi

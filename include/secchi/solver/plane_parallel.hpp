@@ -1,0 +1,156 @@
+#pragma once
+// A plane-parallel problem end to end (the canonical problems' set-up, M93 section 3):
+// homogeneous water of attenuation c and albedo w0 under a collimated sun and a black sky,
+// flat surface, optional bottom. First pass: photons traced, irradiance detectors tallied,
+// the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
+// estimated at each depth from a grid of vertical rays with the store's collection volume
+// (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
+#include "secchi/estimate/path_radiance.hpp"
+#include "secchi/map/brute_force.hpp"
+#include "secchi/map/kdtree.hpp"
+#include "secchi/map/nanoflann_store.hpp"
+#include "secchi/map/voi_octree.hpp"
+#include "secchi/optics/medium.hpp"
+#include "secchi/optics/phase/cone_average.hpp"
+#include "secchi/transport/tracer.hpp"
+#include <chrono>
+#include <optional>
+#include <string>
+
+namespace secchi {
+
+enum class StoreKind { kdtree, voi, nanoflann, brute_force };
+
+inline std::string to_string(StoreKind k) {
+    switch (k) {
+        case StoreKind::kdtree: return "kdtree";
+        case StoreKind::voi: return "voi";
+        case StoreKind::nanoflann: return "nanoflann";
+        case StoreKind::brute_force: return "brute-force";
+    }
+    return "?";
+}
+
+inline StoreKind parse_store(const std::string& s) {
+    if (s == "kdtree") return StoreKind::kdtree;
+    if (s == "voi") return StoreKind::voi;
+    if (s == "nanoflann") return StoreKind::nanoflann;
+    if (s == "brute-force") return StoreKind::brute_force;
+    reject("store", s, "must be kdtree, voi, nanoflann or brute-force");
+}
+
+struct PlaneParallelConfig {
+    double attenuation = 1.0;      ///< c (1/m); depths are in metres, so tau = c z
+    double albedo = 0.9;           ///< w0 = b / c
+    double sun_zenith_deg = 60.0;
+    double water_index = 1.34;     ///< 1.0 = no interface
+    Bottom bottom;                 ///< depth in metres
+    TransportSettings transport;   ///< photons, map photons, seed, threads, batches, depths, absorption
+    StoreKind store = StoreKind::voi;
+    double radius = 0.05;          ///< collection radius (m)
+    unsigned steps = 64;           ///< k-d tree: spheres along each ray (eq. 3.18)
+    double omega = 0.005;          ///< collection solid angle (sr), eq. 3.5
+    double ray_length = 8.0;       ///< m; Lu integrates the path radiance over this length (or to the bottom)
+    unsigned ray_grid = 10;        ///< K x K vertical rays per depth
+    double section_width = 1.0;    ///< m, periodic horizontal section
+    bool keep_map = false;         ///< return the stored records (for images)
+};
+
+struct DepthResult {
+    double depth = 0;
+    std::array<Estimate, 4> irradiance{};  ///< Ed, Eu, Eod, Eou
+    Estimate lu;                           ///< nadir radiance (upwelling)
+    std::uint64_t photons_touched = 0;
+};
+
+struct PlaneParallelResult {
+    std::string phase_name;
+    PhaseMoments moments{};
+    std::uint64_t photons_traced = 0, photons_stored = 0;
+    double seconds = 0, seconds_transport = 0, seconds_build = 0, seconds_collect = 0;
+    std::size_t store_bytes = 0;
+    double flux_per_map_photon = 0;  ///< W nm^-1 per stored photon
+    std::vector<DepthResult> depths;
+    EnergyLedger ledger;
+    Estimate bottom_ed;
+    std::vector<CompactRecord> map;  ///< only with keep_map
+};
+
+namespace detail {
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Lu at every depth from a built store with the store's natural collection volume.
+template <class Store, CollectionVolume Volume, class Cone, class Record>
+void estimate_lu(const Store& store, const Volume& volume, const Cone& cone, const PlaneParallelConfig& cfg,
+                 const Slab& slab, const TransportResult<Record>& tr, PlaneParallelResult& out) {
+    const PathRadianceEstimator est(store, volume, cone, cfg.attenuation, tr.flux_per_map_photon, tr.batches,
+                                    Radius(cfg.radius));
+    for (auto& d : out.depths) {
+        const double length = std::min(cfg.ray_length, slab.floor_depth() - d.depth);
+        if (length <= 0.0) continue;
+        const auto r = est.estimate(nadir_ray_grid(d.depth, length, cfg.ray_grid, cfg.section_width),
+                                    cfg.transport.threads);
+        d.lu = r.radiance;
+        d.photons_touched = r.photons_touched;
+        if (cfg.bottom.kind == BottomKind::lambertian && d.depth + length >= cfg.bottom.depth) {
+            // Light reflected by the Lambertian bottom: L = A Ed(bottom) / pi, attenuated to z.
+            const double att = std::exp(-cfg.attenuation * (cfg.bottom.depth - d.depth)) * cfg.bottom.albedo / pi;
+            d.lu.value += att * tr.bottom_ed.value;
+            d.lu.se = std::hypot(d.lu.se, att * tr.bottom_ed.se);
+        }
+    }
+}
+}  // namespace detail
+
+template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
+PlaneParallelResult solve_plane_parallel(const Phase& phase, PlaneParallelConfig cfg) {
+    const auto t0 = std::chrono::steady_clock::now();
+    require(cfg.radius > 0 && 2.0 * cfg.radius * cfg.ray_grid <= cfg.section_width, "radius", cfg.radius,
+            "must be > 0 and at most section_width / (2 ray_grid) so the ray cylinders stay inside the section");
+    const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
+    double deepest = 0.0;
+    for (double z : cfg.transport.depths) deepest = std::max(deepest, z);
+    // Infinitely deep water: photons below the deepest ray's end plus 4 attenuation lengths
+    // cannot contribute measurably (their return is attenuated by more than e^-8).
+    const double escape = deepest + cfg.ray_length + 4.0 / cfg.attenuation;
+    const Slab slab(cfg.section_width, cfg.bottom, escape);
+    const PhotonTracer<HomogeneousWater<Phase>, Record> tracer(medium, slab, FlatSurface(cfg.water_index),
+                                                               CollimatedSun(cfg.sun_zenith_deg), cfg.transport);
+    auto tr = tracer.run();
+
+    PlaneParallelResult out;
+    out.phase_name = phase.name();
+    out.moments = phase_moments(phase);
+    out.photons_traced = tr.photons;
+    out.photons_stored = tr.records.size();
+    out.ledger = tr.ledger;
+    out.bottom_ed = tr.bottom_ed;
+    out.flux_per_map_photon = tr.flux_per_map_photon;
+    out.seconds_transport = detail::seconds_since(t0);
+    for (std::size_t i = 0; i < tr.depths.size(); ++i) out.depths.push_back({tr.depths[i], tr.irradiance[i], {}, 0});
+    if constexpr (std::is_same_v<Record, CompactRecord>)
+        if (cfg.keep_map) out.map = tr.records;
+
+    if (tr.map_photons > 0) {
+        const ConeAveragedPhase<Phase> cone(phase, cfg.omega);
+        const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth);
+        auto run = [&](const auto& store, const auto& volume) {
+            out.store_bytes = store.memory_bytes();
+            out.seconds_build = detail::seconds_since(t0) - out.seconds_transport;
+            detail::estimate_lu(store, volume, cone, cfg, slab, tr, out);
+        };
+        switch (cfg.store) {
+            case StoreKind::kdtree: run(KdTreeStore<Record>(std::move(tr.records)), spheres); break;
+            case StoreKind::nanoflann: run(NanoflannStore<Record>(std::move(tr.records)), spheres); break;
+            case StoreKind::voi: run(VoiOctreeStore<Record>(std::move(tr.records)), VoiCylinder{}); break;
+            case StoreKind::brute_force: run(BruteForceStore<Record>(std::move(tr.records)), VoiCylinder{}); break;
+        }
+        out.seconds_collect = detail::seconds_since(t0) - out.seconds_transport - out.seconds_build;
+    }
+    out.seconds = detail::seconds_since(t0);
+    return out;
+}
+
+}  // namespace secchi

@@ -1,0 +1,38 @@
+#pragma once
+// Energy accounting of the first pass: every photon's weight ends in exactly one account,
+// so incident = surface_reflected + escaped_up + absorbed + absorbed_bottom + transmitted +
+// truncated + roulette_killed - roulette_gained. In analog mode the roulette terms are zero
+// and the balance is exact per photon; with Russian roulette it holds in expectation.
+namespace secchi {
+
+struct EnergyLedger {
+    double incident = 0;           ///< weight that arrived at the surface from the sun
+    double surface_reflected = 0;  ///< specular reflection of the incident beam
+    double escaped_up = 0;         ///< left the water upward through the surface
+    double absorbed = 0;           ///< absorbed in the water
+    double absorbed_bottom = 0;    ///< absorbed by an opaque bottom
+    double transmitted = 0;        ///< left through the bottom of a finite slab, or below the escape depth
+    double truncated = 0;          ///< stopped by the scattering-order limit (manual 3.3.8)
+    double roulette_killed = 0;    ///< weight removed by Russian roulette
+    double roulette_gained = 0;    ///< weight added to roulette survivors
+
+    EnergyLedger& operator+=(const EnergyLedger& o) {
+        incident += o.incident;
+        surface_reflected += o.surface_reflected;
+        escaped_up += o.escaped_up;
+        absorbed += o.absorbed;
+        absorbed_bottom += o.absorbed_bottom;
+        transmitted += o.transmitted;
+        truncated += o.truncated;
+        roulette_killed += o.roulette_killed;
+        roulette_gained += o.roulette_gained;
+        return *this;
+    }
+    /// incident minus everything accounted for; 0 up to rounding in analog mode.
+    [[nodiscard]] double imbalance() const {
+        return incident + roulette_gained -
+               (surface_reflected + escaped_up + absorbed + absorbed_bottom + transmitted + truncated + roulette_killed);
+    }
+};
+
+}  // namespace secchi

@@ -1,0 +1,38 @@
+#pragma once
+// A minimal parallel loop: `threads` workers take indices 0..n-1 from an atomic counter.
+// Callers write results into per-index slots and merge them in index order, so the result
+// never depends on which thread ran which index.
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace secchi {
+
+template <class F>
+void parallel_for(std::size_t n, unsigned threads, F&& body) {
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto worker = [&] {
+        for (std::size_t i; (i = next.fetch_add(1)) < n;) {
+            try {
+                body(i);
+            } catch (...) {
+                std::lock_guard lock(error_mutex);
+                if (!error) error = std::current_exception();
+                next = n;
+            }
+        }
+    };
+    const unsigned extra = threads > 1 ? std::min<std::size_t>(threads, n) - 1 : 0;
+    std::vector<std::jthread> pool;
+    for (unsigned t = 0; t < extra; ++t) pool.emplace_back(worker);
+    worker();
+    pool.clear();  // joins
+    if (error) std::rethrow_exception(error);
+}
+
+}  // namespace secchi

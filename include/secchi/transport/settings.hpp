@@ -1,0 +1,55 @@
+#pragma once
+// Settings of the first pass (manual 3.3): photon budget, seed, threads, batches, detector
+// depths, and how absorption and long histories are handled.
+#include "secchi/core/error.hpp"
+#include <cstdint>
+#include <vector>
+
+namespace secchi {
+
+/// How absorption is applied at an interaction (both unbiased):
+///  - analog: the photon is absorbed with probability 1 - w0 and otherwise scattered (manual
+///    3.3.5); every stored photon carries the same flux.
+///  - implicit_capture: the photon always scatters and its weight is multiplied by w0
+///    (survival biasing, "absorption weighting"); the absorbed part goes to the ledger. Stored
+///    photons keep equal flux: a scattering event is stored with probability equal to the
+///    photon's weight. Far more photons reach deep detectors (essential at w0 = 0.2).
+enum class AbsorptionMode { analog, implicit_capture };
+
+struct TransportSettings {
+    std::uint64_t photons = 1'000'000;  ///< photons shot (their flux normalises everything: manual 3.3.3)
+    std::uint64_t map_photons = 0;      ///< the first photons (by index) whose scattering events are stored; 0 = none
+    std::uint64_t seed = 1;
+    unsigned threads = 1;
+    unsigned batches = 32;              ///< independent batches for standard errors (>= 16 recommended)
+    std::vector<double> depths;         ///< irradiance detector depths (m)
+    double layer_thickness = 0.02;      ///< m, scalar-irradiance track-length layer
+    AbsorptionMode absorption = AbsorptionMode::analog;
+    /// Cumulative-probability limit (manual 3.3.8, 7.3.2), applied without bias as Russian
+    /// roulette: a photon whose weight (its cumulative survival probability) falls below
+    /// roulette_weight survives with probability roulette_survival and is re-weighted by its
+    /// inverse. 0 disables it (then implicit capture follows photons until they leave).
+    double roulette_weight = 1e-4;
+    double roulette_survival = 0.1;
+    /// Scattering-order limit (manual 3.3.8): a photon that has scattered max_order times
+    /// stops at its next interaction, unstored (a biased truncation; 0 = none). With 1 the
+    /// map holds exactly the single-scattering source.
+    unsigned max_order = 0;
+    std::uint64_t block_size = 4096;    ///< photons per work unit (does not change results)
+
+    void validate() const {
+        require(photons > 0, "photons", photons, "must be > 0");
+        require(map_photons <= photons, "map photons", map_photons, "must not exceed the photons shot");
+        require(threads >= 1, "threads", threads, "must be >= 1");
+        require(batches >= 2 && batches <= 256, "batches", batches, "must be in [2, 256]");
+        require(photons >= batches, "photons", photons, "must be at least the number of batches");
+        require(layer_thickness > 0.0, "layer thickness", layer_thickness, "must be > 0");
+        require(roulette_weight >= 0.0 && roulette_weight < 1.0, "roulette weight", roulette_weight, "must be in [0, 1)");
+        require(roulette_survival > 0.0 && roulette_survival <= 1.0, "roulette survival", roulette_survival,
+                "must be in (0, 1]");
+        require(block_size > 0, "block size", block_size, "must be > 0");
+        for (double z : depths) require(z >= 0.0, "detector depth", z, "must be >= 0");
+    }
+};
+
+}  // namespace secchi

@@ -1,0 +1,277 @@
+#pragma once
+// The first pass (manual 3.3): equal-flux photons from a collimated sun, refracted through
+// the flat surface, exponential free paths (eq. 3.17), absorption or scattering by the
+// albedo (3.3.5), storage of scattering events in the photon map (3.3.6), Fresnel
+// reflection and refraction at the surface from below, a Lambertian or transparent bottom,
+// and irradiance detectors. Every photon's weight ends in the energy ledger.
+//
+// Parallel and reproducible: photon i draws only from its own counter-based stream
+// (seed, i); photons are processed in fixed blocks, and block results are merged in block
+// order, so the output is bit-identical for any thread count.
+#include "secchi/core/rng.hpp"
+#include "secchi/core/stats.hpp"
+#include "secchi/map/record.hpp"
+#include "secchi/optics/medium.hpp"
+#include "secchi/scene/flat_surface.hpp"
+#include "secchi/scene/slab.hpp"
+#include "secchi/scene/sun.hpp"
+#include "secchi/transport/irradiance_layers.hpp"
+#include "secchi/transport/ledger.hpp"
+#include "secchi/transport/parallel.hpp"
+#include "secchi/transport/settings.hpp"
+#include <vector>
+
+namespace secchi {
+
+/// What the first pass produces. Irradiances are in the units of the sun's E_perp.
+template <PhotonRecord Record>
+struct TransportResult {
+    std::vector<double> depths;
+    std::vector<std::array<Estimate, 4>> irradiance;  ///< per depth, indexed by IrradianceKind
+    Estimate bottom_ed;                               ///< Ed arriving at the bottom (0 without one)
+    EnergyLedger ledger;                              ///< normalised per incident photon
+    std::vector<Record> records;                      ///< the photon map, in photon order
+    double flux_per_map_photon = 0;                   ///< W nm^-1: E_d(0+) x section area / map photons
+    std::uint64_t photons = 0, map_photons = 0;
+    unsigned batches = 0;
+};
+
+namespace detail {
+/// One work unit: photons [begin, end) all of one batch.
+struct Block {
+    std::uint64_t begin, end;
+    unsigned batch;
+};
+
+template <class Record>
+struct BlockResult {
+    std::vector<IrradianceTally> tally;  // per depth
+    double bottom_ed = 0;
+    EnergyLedger ledger;
+    std::vector<Record> records;
+};
+
+inline std::vector<Block> make_blocks(std::uint64_t photons, unsigned batches, std::uint64_t block_size) {
+    std::vector<Block> blocks;
+    for (unsigned b = 0; b < batches; ++b) {
+        const std::uint64_t lo = photons * b / batches, hi = photons * (b + 1) / batches;
+        for (std::uint64_t s = lo; s < hi; s += block_size) blocks.push_back({s, std::min(hi, s + block_size), b});
+    }
+    return blocks;
+}
+}  // namespace detail
+
+template <Medium M, PhotonRecord Record>
+class PhotonTracer {
+public:
+    PhotonTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
+                 TransportSettings settings)
+        : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(std::move(settings)),
+          layers_(s_.depths, s_.layer_thickness, slab.floor_depth()) {
+        s_.validate();
+    }
+
+    TransportResult<Record> run() const {
+        const auto blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
+        std::vector<detail::BlockResult<Record>> results(blocks.size());
+        parallel_for(blocks.size(), s_.threads, [&](std::size_t i) { results[i] = trace_block(blocks[i]); });
+        return merge(blocks, results);
+    }
+
+private:
+    struct PhotonState {
+        vec3 pos, dir;
+        double w;
+        unsigned order;
+    };
+
+    detail::BlockResult<Record> trace_block(const detail::Block& block) const {
+        detail::BlockResult<Record> out;
+        out.tally.assign(layers_.size(), IrradianceTally{});
+        for (std::uint64_t i = block.begin; i < block.end; ++i) trace_photon(i, out);
+        return out;
+    }
+
+    /// Follows photon `index` from the sun until it leaves, is absorbed or is stopped.
+    void trace_photon(std::uint64_t index, detail::BlockResult<Record>& out) const {
+        PhotonRng rng(s_.seed, index);
+        PhotonState p{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_.direction(), 1.0, 0};
+        out.ledger.incident += 1.0;
+        if (!enter_water(p, rng, out.ledger)) return;
+        const bool stores = index < s_.map_photons;
+        const auto map_batch = static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0);
+        const double c = medium_.attenuation(), floor = slab_.floor_depth();
+        while (true) {
+            const double s = -std::log(rng.uniform()) / c;  // free path, manual eq. 3.17
+            const double z1 = p.pos.z + p.dir.z * s;
+            if (z1 < 0.0) {                               // reaches the surface from below
+                const double t = -p.pos.z / p.dir.z;
+                fly(p, t, out);
+                if (!leave_or_reflect_at_surface(p, rng, out.ledger)) return;
+                continue;
+            }
+            if (z1 >= floor) {                            // reaches the bottom / escape depth
+                const double t = (floor - p.pos.z) / p.dir.z;
+                fly(p, t, out);
+                out.bottom_ed += p.w;
+                if (!reflect_at_bottom(p, rng, out.ledger)) return;
+                continue;
+            }
+            fly(p, s, out);
+            if (!interact(p, rng, out, stores, map_batch)) return;
+        }
+    }
+
+    /// Transmission through the surface from the air (Fresnel). False if the photon is lost.
+    bool enter_water(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+        const double r = surface_.reflectance_from_air(p.dir);
+        if (s_.absorption == AbsorptionMode::implicit_capture) {
+            ledger.surface_reflected += r;  // expected value: the weight carries the transmittance
+            p.w = 1.0 - r;
+        } else if (rng.uniform() < r) {
+            ledger.surface_reflected += 1.0;
+            return false;
+        }
+        p.dir = surface_.transmit_into_water(p.dir);
+        return true;
+    }
+
+    /// At the surface from below: reflect (Fresnel, total internal reflection) or escape.
+    bool leave_or_reflect_at_surface(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+        p.pos.z = 0.0;
+        if (rng.uniform() < surface_.reflectance_from_water(p.dir)) {
+            p.dir = FlatSurface::reflect(p.dir);
+            return true;
+        }
+        ledger.escaped_up += p.w;
+        return false;
+    }
+
+    /// At the floor: Lambertian reflection (weight x albedo in implicit capture, or survival
+    /// with probability albedo in analog mode), or transmission out of the water body.
+    bool reflect_at_bottom(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+        const Bottom& b = slab_.bottom();
+        if (b.kind != BottomKind::lambertian) {
+            ledger.transmitted += p.w;
+            return false;
+        }
+        if (s_.absorption == AbsorptionMode::implicit_capture) {
+            ledger.absorbed_bottom += p.w * (1.0 - b.albedo);
+            p.w *= b.albedo;
+        } else if (rng.uniform() >= b.albedo) {
+            ledger.absorbed_bottom += p.w;
+            return false;
+        }
+        // Lambertian reflection: cosine-weighted upward direction (pdf cos(theta)/pi).
+        const double mu = std::sqrt(rng.uniform()), phi = two_pi * rng.uniform();
+        const double sin_t = std::sqrt(1.0 - mu * mu);
+        p.dir = {sin_t * std::cos(phi), sin_t * std::sin(phi), -mu};
+        p.pos.z = b.depth;
+        return roulette(p, rng, ledger);
+    }
+
+    /// Moves the photon by path length s, tallying the detectors it passes.
+    void fly(PhotonState& p, double s, detail::BlockResult<Record>& out) const {
+        const double z1 = p.pos.z + p.dir.z * s;
+        layers_.record(p.pos.z, z1, p.dir.z, s, p.w, out.tally.data());
+        p.pos += p.dir * s;
+        p.pos.z = z1;
+    }
+
+    /// An interaction in the water: absorption or scattering by the albedo, storage of the
+    /// scattering event, a new direction from the phase function. False if the photon ends.
+    bool interact(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool stores,
+                  std::uint8_t map_batch) const {
+        if (s_.max_order != 0 && p.order >= s_.max_order) {  // scattering-order limit (manual 3.3.8)
+            out.ledger.truncated += p.w;
+            return false;
+        }
+        const double w0 = medium_.albedo();
+        if (s_.absorption == AbsorptionMode::implicit_capture) {
+            out.ledger.absorbed += p.w * (1.0 - w0);
+            p.w *= w0;
+            if (stores && rng.uniform() < p.w) store(p, out, map_batch);  // equal-flux storage
+        } else {
+            if (rng.uniform() >= w0) {
+                out.ledger.absorbed += p.w;
+                return false;
+            }
+            if (stores) store(p, out, map_batch);
+        }
+        ++p.order;
+        const PhaseSample ps = medium_.phase().sample(rng.uniform(), rng.uniform());
+        p.dir = rotate_direction(p.dir, ps.cos_psi, ps.phi);
+        return roulette(p, rng, out.ledger);
+    }
+
+    void store(const PhotonState& p, detail::BlockResult<Record>& out, std::uint8_t map_batch) const {
+        const vec3 wrapped{slab_.wrap(p.pos.x), slab_.wrap(p.pos.y), p.pos.z};
+        out.records.push_back(Record::make(wrapped, p.dir, band_index{0}, map_batch));
+    }
+
+    /// Russian roulette on the photon's weight (its cumulative survival probability).
+    bool roulette(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+        if (s_.roulette_weight == 0.0 || p.w >= s_.roulette_weight) return true;
+        if (rng.uniform() < s_.roulette_survival) {
+            const double w = p.w / s_.roulette_survival;
+            ledger.roulette_gained += w - p.w;
+            p.w = w;
+            return true;
+        }
+        ledger.roulette_killed += p.w;
+        return false;
+    }
+
+    TransportResult<Record> merge(const std::vector<detail::Block>& blocks,
+                                  std::vector<detail::BlockResult<Record>>& results) const {
+        const std::size_t nd = layers_.size();
+        std::vector<std::vector<IrradianceTally>> batch_tally(s_.batches, std::vector<IrradianceTally>(nd));
+        std::vector<double> batch_bottom(s_.batches, 0.0), batch_photons(s_.batches, 0.0);
+        TransportResult<Record> r;
+        std::size_t total_records = 0;
+        for (const auto& res : results) total_records += res.records.size();
+        r.records.reserve(total_records);
+        for (std::size_t i = 0; i < blocks.size(); ++i) {  // fixed order: deterministic sums
+            const auto& blk = blocks[i];
+            auto& res = results[i];
+            for (std::size_t d = 0; d < nd; ++d)
+                for (int k = 0; k < 4; ++k) batch_tally[blk.batch][d][k] += res.tally[d][k];
+            batch_bottom[blk.batch] += res.bottom_ed;
+            batch_photons[blk.batch] += static_cast<double>(blk.end - blk.begin);
+            r.ledger += res.ledger;
+            r.records.insert(r.records.end(), res.records.begin(), res.records.end());
+            std::vector<Record>().swap(res.records);
+        }
+        const double ed0 = sun_.plane_irradiance();
+        std::vector<double> values(s_.batches);
+        auto estimate = [&](auto&& value_of_batch) {
+            for (unsigned b = 0; b < s_.batches; ++b) values[b] = ed0 * value_of_batch(b) / batch_photons[b];
+            return batch_estimate(values);
+        };
+        r.depths = layers_.depths();
+        r.irradiance.resize(nd);
+        for (std::size_t d = 0; d < nd; ++d)
+            for (int k = 0; k < 4; ++k) r.irradiance[d][k] = estimate([&](unsigned b) { return batch_tally[b][d][k]; });
+        r.bottom_ed = estimate([&](unsigned b) { return batch_bottom[b]; });
+        const double n = static_cast<double>(s_.photons);
+        for (double* f : {&r.ledger.incident, &r.ledger.surface_reflected, &r.ledger.escaped_up, &r.ledger.absorbed,
+                          &r.ledger.absorbed_bottom, &r.ledger.transmitted, &r.ledger.truncated,
+                          &r.ledger.roulette_killed, &r.ledger.roulette_gained})
+            *f /= n;
+        r.photons = s_.photons;
+        r.map_photons = s_.map_photons;
+        r.batches = s_.batches;
+        r.flux_per_map_photon =
+            s_.map_photons ? ed0 * slab_.width() * slab_.width() / static_cast<double>(s_.map_photons) : 0.0;
+        return r;
+    }
+
+    const M& medium_;
+    Slab slab_;
+    FlatSurface surface_;
+    CollimatedSun sun_;
+    TransportSettings s_;
+    IrradianceLayers layers_;
+};
+
+}  // namespace secchi

@@ -1,0 +1,374 @@
+// The photon stores (k-d tree, nanoflann, VOI octree) against the brute-force oracle.
+#include <catch2/catch.hpp>
+#include "secchi/core/rng.hpp"
+#include "secchi/map/brute_force.hpp"
+#include "secchi/map/kdtree.hpp"
+#include "secchi/map/nanoflann_store.hpp"
+#include "secchi/map/voi_octree.hpp"
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+using namespace secchi;
+
+namespace {
+
+vec3 random_unit(PhotonRng& rng) {
+    const double z = 2.0 * rng.uniform() - 1.0, phi = two_pi * rng.uniform();
+    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return {s * std::cos(phi), s * std::sin(phi), z};
+}
+
+enum class Layout { uniform, clustered };
+
+/// uniform: positions uniform in the 1 x 1 x 3 box. clustered: shared coordinates on a
+/// coarse grid, one position repeated many times, near-coincident points (below the octree's
+/// depth limit), a plane and a line, plus some uniform points.
+vec3 random_position(Layout layout, std::size_t i, PhotonRng& rng) {
+    const double u = rng.uniform(), v = rng.uniform(), w = rng.uniform();
+    if (layout == Layout::uniform) return {u, v, 3.0 * w};
+    switch (i % 6) {
+        case 0:
+        case 1: return {std::floor(9 * u) * 0.125, std::floor(9 * v) * 0.125, std::floor(13 * w) * 0.25};
+        case 2: return i % 4 == 0 ? vec3(0.5, 0.5, 1.5) : vec3(0.5 + 1e-7 * static_cast<double>(i % 7), 0.5, 1.5);
+        case 3: return {u, v, 1.0};
+        case 4: return {0.25, 0.75, std::floor(25 * w) * 0.125};
+        default: return {u, v, 3.0 * w};
+    }
+}
+
+template <class Record>
+std::vector<Record> make_records(Layout layout, std::size_t n, std::uint64_t seed) {
+    PhotonRng rng(seed, 0);
+    std::vector<Record> out;
+    out.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const vec3 p = random_position(layout, i, rng);
+        out.push_back(Record::make(p, random_unit(rng), static_cast<band_index>(rng.bits() % 4),
+                                   static_cast<std::uint8_t>(rng.bits() % 8)));
+    }
+    return out;
+}
+
+struct Query {
+    vec3 point;
+    Ray ray;
+    double r;
+};
+
+vec3 axis_direction(std::uint32_t which) {
+    const std::array<vec3, 6> axes{vec3(0, 0, 1), vec3(0, 0, -1), vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0)};
+    return axes[which % 6];
+}
+
+/// ~100 queries: points and ray origins in and around the box, radii 1e-4 to 5 (larger than
+/// the box), random and axis-parallel directions, zero-length segments, rays from far outside,
+/// and (clustered) queries exactly on the grid with radii equal to the grid spacing.
+std::vector<Query> make_queries(Layout layout, int count, std::uint64_t seed) {
+    PhotonRng rng(seed, 1);
+    std::vector<Query> out;
+    for (int i = 0; i < count; ++i) {
+        Query q{};
+        q.r = std::pow(10.0, -4.0 + 4.7 * rng.uniform());
+        q.point = {-0.5 + 2 * rng.uniform(), -0.5 + 2 * rng.uniform(), -1 + 5 * rng.uniform()};
+        q.ray.origin = {-0.5 + 2 * rng.uniform(), -0.5 + 2 * rng.uniform(), -1 + 5 * rng.uniform()};
+        q.ray.direction = i % 3 == 0 ? axis_direction(rng.bits()) : random_unit(rng);
+        q.ray.t_max = 6.0 * rng.uniform();
+        if (i % 20 == 7) q.ray.t_max = 0.0;
+        if (i % 10 == 3) {  // from far outside, through the box
+            q.ray = {vec3(-10.0, 0.3 + 0.4 * rng.uniform(), 3 * rng.uniform()), vec3(1, 0, 0), 20.0};
+        }
+        if (i % 25 == 11) q.ray.direction = glm::normalize(vec3(1e-20, -1e-310, 1.0));
+        if (layout == Layout::clustered && i % 4 == 1) {  // exactly on the grid: ties at distance r
+            const vec3 g(std::floor(9 * rng.uniform()) * 0.125, std::floor(9 * rng.uniform()) * 0.125,
+                         std::floor(13 * rng.uniform()) * 0.25);
+            q.point = g;
+            q.ray = {vec3(g.x, g.y, -1.0), vec3(0, 0, 1), 5.0};
+            q.r = (rng.bits() % 2 == 0) ? 0.125 : 0.25;
+        }
+        out.push_back(q);
+    }
+    out.push_back({vec3(0.5, 0.5, 1.5), Ray{vec3(0.5, 0.5, -1.0), vec3(0, 0, 1), 5.0}, 1e-9});
+    out.push_back({vec3(0.25, 0.75, 1.0), Ray{vec3(0.25, 0.75, 5.0), vec3(0, 0, -1), 10.0}, 1e-6});
+    return out;
+}
+
+/// A hit with the position of its record (stores reorder records, so positions identify them).
+struct Found {
+    double x, y, z, t, d2;
+    std::uint32_t index;
+    auto key() const { return std::tie(x, y, z, t, d2); }
+};
+
+template <class Store>
+std::vector<Found> located(const Store& s, const std::vector<Hit>& hits) {
+    std::vector<Found> out;
+    for (const Hit& h : hits) {
+        const vec3 p = s.records().at(h.index).position();
+        out.push_back({p.x, p.y, p.z, h.t, h.distance2, h.index});
+    }
+    std::sort(out.begin(), out.end(), [](const Found& a, const Found& b) { return a.key() < b.key(); });
+    return out;
+}
+
+bool close(double a, double b) { return a == b || std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); }
+
+/// "" if the two hit lists hold the same multiset of positions with matching t and distance2
+/// and `got` reports no record twice; else a description of the first difference.
+std::string compare(const std::vector<Found>& got, const std::vector<Found>& want) {
+    std::ostringstream msg;
+    std::vector<std::uint32_t> indices;
+    for (const Found& f : got) indices.push_back(f.index);
+    std::sort(indices.begin(), indices.end());
+    if (std::adjacent_find(indices.begin(), indices.end()) != indices.end()) return "a record reported twice";
+    if (got.size() != want.size()) {
+        msg << "got " << got.size() << " hits, brute force " << want.size();
+        return msg.str();
+    }
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const Found &g = got[i], &w = want[i];
+        if (g.x != w.x || g.y != w.y || g.z != w.z || !close(g.t, w.t) || !close(g.d2, w.d2)) {
+            msg.precision(17);
+            msg << "hit " << i << ": (" << g.x << ", " << g.y << ", " << g.z << ") t " << g.t << " d2 " << g.d2
+                << " vs (" << w.x << ", " << w.y << ", " << w.z << ") t " << w.t << " d2 " << w.d2;
+            return msg.str();
+        }
+    }
+    return {};
+}
+
+template <class Store>
+std::vector<Found> run_within(const Store& s, const Query& q) {
+    CollectAll all;
+    const bool completed = s.within(q.point, Radius(q.r), all);
+    REQUIRE(completed);
+    return located(s, all.hits);
+}
+
+template <class Store>
+std::vector<Found> run_along(const Store& s, const Query& q) {
+    CollectAll all;
+    const bool completed = s.along(q.ray, Radius(q.r), all);
+    REQUIRE(completed);
+    return located(s, all.hits);
+}
+
+/// Sorted positions (and directions) of the records: stores must hold a permutation of the input.
+template <class Record>
+std::vector<std::tuple<double, double, double, double, double, double>> contents(const std::vector<Record>& records) {
+    std::vector<std::tuple<double, double, double, double, double, double>> out;
+    for (const Record& r : records) {
+        const vec3 p = r.position(), d = r.direction();
+        out.emplace_back(p.x, p.y, p.z, d.x, d.y, d.z);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+template <class Store>
+void require_agreement(const std::vector<typename Store::record_type>& records, const Store& store, Layout layout,
+                       std::uint64_t seed) {
+    const BruteForceStore<typename Store::record_type> brute(records);
+    REQUIRE(store.size() == records.size());
+    REQUIRE(contents(store.records()) == contents(records));
+    for (const Query& q : make_queries(layout, 100, seed)) {
+        INFO("point (" << q.point.x << ", " << q.point.y << ", " << q.point.z << ") ray origin (" << q.ray.origin.x << ", "
+                       << q.ray.origin.y << ", " << q.ray.origin.z << ") direction (" << q.ray.direction.x << ", "
+                       << q.ray.direction.y << ", " << q.ray.direction.z << ") t_max " << q.ray.t_max << " r " << q.r);
+        REQUIRE(compare(run_within(store, q), run_within(brute, q)) == "");
+        REQUIRE(compare(run_along(store, q), run_along(brute, q)) == "");
+    }
+}
+
+/// Stops the search on its `limit`-th call.
+struct StopAfter {
+    int calls = 0;
+    int limit = 5;
+    bool operator()(const Hit&) { return ++calls < limit; }
+};
+
+/// The k nearest by (distance2, index) over the store's own records: the exact expectation.
+template <class Store>
+std::vector<Hit> expected_nearest(const Store& s, const vec3& p, std::size_t k) {
+    std::vector<Hit> all;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const vec3 d = s.records()[i].position() - p;
+        all.push_back({static_cast<std::uint32_t>(i), 0.0, glm::dot(d, d)});
+    }
+    std::sort(all.begin(), all.end(), detail::KBest::before);
+    all.resize(std::min(k, all.size()));
+    return all;
+}
+
+}  // namespace
+
+static_assert(PhotonStore<KdTreeStore<CompactRecord>> && PhotonStore<KdTreeStore<FullRecord>>);
+static_assert(PhotonStore<NanoflannStore<CompactRecord>> && PhotonStore<NanoflannStore<FullRecord>>);
+static_assert(PhotonStore<VoiOctreeStore<CompactRecord>> && PhotonStore<VoiOctreeStore<FullRecord>>);
+
+#define SECCHI_ALL_STORES                                                                                          \
+    KdTreeStore<CompactRecord>, KdTreeStore<FullRecord>, NanoflannStore<CompactRecord>, NanoflannStore<FullRecord>, \
+        VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>
+
+TEMPLATE_TEST_CASE("within and along report exactly the brute-force records", "[stores]", SECCHI_ALL_STORES) {
+    using Record = typename TestType::record_type;
+    SECTION("20000 uniform points in a 1 x 1 x 3 box") {
+        const auto records = make_records<Record>(Layout::uniform, 20000, 11);
+        require_agreement(records, TestType(records), Layout::uniform, 12);
+    }
+    SECTION("clustered points: shared coordinates, repeated and near-coincident positions") {
+        const auto records = make_records<Record>(Layout::clustered, 6000, 13);
+        require_agreement(records, TestType(records), Layout::clustered, 14);
+    }
+}
+
+TEMPLATE_TEST_CASE("empty and single-record stores", "[stores]", SECCHI_ALL_STORES) {
+    using Record = typename TestType::record_type;
+    const TestType empty(std::vector<Record>{});
+    REQUIRE(empty.size() == 0);
+    REQUIRE(empty.records().empty());
+    for (const Query& q : make_queries(Layout::uniform, 20, 21)) {
+        CountHits count;
+        REQUIRE(empty.within(q.point, Radius(q.r), count));
+        REQUIRE(empty.along(q.ray, Radius(q.r), count));
+        REQUIRE(count.count == 0);
+    }
+    const auto one = make_records<Record>(Layout::uniform, 1, 22);
+    const TestType single(one);
+    REQUIRE(single.size() == 1);
+    require_agreement(one, single, Layout::uniform, 23);
+    const vec3 p = one[0].position();
+    CollectAll all;
+    REQUIRE(single.within(p + vec3(0.1, 0, 0), Radius(0.2), all));
+    REQUIRE(single.along(Ray{p - vec3(0, 0, 1), vec3(0, 0, 1), 2.0}, Radius(1e-6), all));
+    REQUIRE(all.hits.size() == 2);
+    REQUIRE(all.hits[1].t == Approx(1.0));
+}
+
+TEMPLATE_TEST_CASE("a collector returning false stops the search", "[stores]", SECCHI_ALL_STORES) {
+    using Record = typename TestType::record_type;
+    const TestType store(make_records<Record>(Layout::uniform, 20000, 31));
+    StopAfter within_stop, along_stop;
+    REQUIRE_FALSE(store.within(vec3(0.5, 0.5, 1.5), Radius(0.5), within_stop));
+    REQUIRE(within_stop.calls == 5);
+    REQUIRE_FALSE(store.along(Ray{vec3(0.5, 0.5, -1.0), vec3(0, 0, 1), 5.0}, Radius(0.2), along_stop));
+    REQUIRE(along_stop.calls == 5);
+    CountHits count{0, 1};
+    REQUIRE_FALSE(store.along(Ray{vec3(0.3, 0.6, -1.0), glm::normalize(vec3(0.1, 0, 1)), 5.0}, Radius(0.3), count));
+    REQUIRE(count.count == 1);
+}
+
+TEMPLATE_TEST_CASE("nearest matches the brute-force k nearest", "[stores]", KdTreeStore<CompactRecord>,
+                   KdTreeStore<FullRecord>, NanoflannStore<CompactRecord>, NanoflannStore<FullRecord>) {
+    using Record = typename TestType::record_type;
+    for (const Layout layout : {Layout::uniform, Layout::clustered}) {
+        const auto records = make_records<Record>(layout, 6000, 41);
+        const TestType store(records);
+        const BruteForceStore<Record> brute(records);
+        auto points = make_queries(layout, 30, 42);
+        points.push_back({vec3(0.5, 0.5, 1.5), {}, 1.0});  // 1000 records tied at distance 0
+        for (const Query& q : points) {
+            for (const std::size_t k : {1u, 8u, 50u}) {
+                INFO("layout " << static_cast<int>(layout) << " point (" << q.point.x << ", " << q.point.y << ", "
+                               << q.point.z << ") k " << k);
+                std::vector<Hit> got;
+                store.nearest(q.point, k, got);
+                const auto want = expected_nearest(store, q.point, k);
+                REQUIRE(got.size() == want.size());
+                for (std::size_t i = 0; i < got.size(); ++i) {
+                    REQUIRE(got[i].index == want[i].index);
+                    REQUIRE(got[i].distance2 == want[i].distance2);
+                }
+                // The distances are those of the brute-force k nearest over the input order.
+                const auto oracle = expected_nearest(brute, q.point, k);
+                for (std::size_t i = 0; i < got.size(); ++i) REQUIRE(got[i].distance2 == oracle[i].distance2);
+            }
+        }
+        std::vector<Hit> out{Hit{}};
+        store.nearest(vec3(0.5), 0, out);
+        REQUIRE(out.empty());
+        store.nearest(vec3(0.5), 10000, out);
+        REQUIRE(out.size() == records.size());
+        REQUIRE(std::is_sorted(out.begin(), out.end(), detail::KBest::before));
+    }
+    const TestType empty(std::vector<Record>{});
+    std::vector<Hit> out;
+    empty.nearest(vec3(0.0), 5, out);
+    REQUIRE(out.empty());
+}
+
+TEST_CASE("the k-d tree is a left-balanced median tree", "[stores][kdtree]") {
+    const KdTreeStore<FullRecord> store(make_records<FullRecord>(Layout::clustered, 6001, 51));
+    const auto& heap = store.records();
+    // Every record in the left subtree of node a has coordinate <= a's along a's axis, every
+    // record in the right subtree >=: walk up from each node to all its ancestors.
+    for (std::size_t j = 1; j < heap.size(); ++j) {
+        for (std::size_t child = j; child > 0; child = (child - 1) / 2) {
+            const std::size_t a = (child - 1) / 2;
+            REQUIRE(store.is_internal(a));
+            const int axis = store.split_axis(a);
+            const double split = heap[a].position()[axis], value = heap[j].position()[axis];
+            if (child == 2 * a + 1) REQUIRE(value <= split);
+            else REQUIRE(value >= split);
+        }
+    }
+}
+
+TEST_CASE("the VOI octree agrees with brute force for any leaf size", "[stores][octree]") {
+    const auto records = make_records<FullRecord>(Layout::clustered, 6000, 61);
+    for (const std::size_t leaf : {1u, 4u, 1000u}) {
+        INFO("leaf size " << leaf);
+        const VoiOctreeStore<FullRecord> store(records, leaf);
+        REQUIRE(store.leaf_size() == leaf);
+        require_agreement(records, store, Layout::clustered, 62);
+    }
+    REQUIRE_THROWS_AS(VoiOctreeStore<FullRecord>(records, 0), input_error);
+}
+
+TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
+    const std::size_t n = 1000000;
+    const auto records = make_records<CompactRecord>(Layout::uniform, n, 71);
+    const auto per_photon = [n](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(n); };
+    const KdTreeStore<CompactRecord> kd(records);
+    const NanoflannStore<CompactRecord> nano(records);
+    const VoiOctreeStore<CompactRecord> octree(records);
+    INFO("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
+                                       << ", VOI octree " << per_photon(octree.memory_bytes()) << " ("
+                                       << octree.node_count() << " nodes)");
+    REQUIRE(kd.memory_bytes() <= static_cast<std::size_t>(16.2 * static_cast<double>(n)) + 1024);
+    REQUIRE(nano.memory_bytes() > n * sizeof(CompactRecord));
+    REQUIRE(octree.memory_bytes() > n * sizeof(CompactRecord));
+}
+
+TEMPLATE_TEST_CASE("concurrent queries from 2 threads match sequential ones", "[stores][threads]",
+                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, VoiOctreeStore<CompactRecord>) {
+    const TestType store(make_records<CompactRecord>(Layout::clustered, 20000, 81));
+    const auto queries = make_queries(Layout::clustered, 100, 82);
+    // Every hit of every query, in reporting order (the order is part of the contract).
+    const auto run = [&store, &queries](std::vector<std::tuple<std::uint32_t, double, double>>& out) {
+        out.clear();
+        for (const Query& q : queries) {
+            CollectAll all;
+            store.within(q.point, Radius(q.r), all);
+            store.along(q.ray, Radius(q.r), all);
+            if constexpr (requires(std::vector<Hit>& v) { store.nearest(q.point, 8, v); }) {
+                std::vector<Hit> near;
+                store.nearest(q.point, 8, near);
+                all.hits.insert(all.hits.end(), near.begin(), near.end());
+            }
+            for (const Hit& h : all.hits) out.emplace_back(h.index, h.t, h.distance2);
+        }
+    };
+    std::vector<std::tuple<std::uint32_t, double, double>> sequential, first, second;
+    run(sequential);
+    std::thread a(run, std::ref(first)), b(run, std::ref(second));
+    a.join();
+    b.join();
+    REQUIRE(!sequential.empty());
+    REQUIRE(first == sequential);
+    REQUIRE(second == sequential);
+}

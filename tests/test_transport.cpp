@@ -1,0 +1,126 @@
+// First-pass transport: Beer-Lambert (manual 7.3.3), energy balance, unbiasedness of implicit
+// capture against analog transport, determinism across thread counts. Statistical checks
+// compare against the exact answer within 4 measured standard errors (fixed in advance).
+#include <catch2/catch.hpp>
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/transport/tracer.hpp"
+#include <cstring>
+
+using namespace secchi;
+
+namespace {
+template <class Phase>
+TransportResult<CompactRecord> run(const Phase& phase, double w0, TransportSettings s, Bottom bottom = {},
+                                   double n_water = 1.34, double zenith = 60.0) {
+    const auto medium = HomogeneousWater<Phase>::from_albedo(1.0, w0, phase);
+    const Slab slab(1.0, bottom, 30.0);
+    return PhotonTracer<HomogeneousWater<Phase>, CompactRecord>(medium, slab, FlatSurface(n_water),
+                                                                CollimatedSun(zenith), s)
+        .run();
+}
+bool within_se(const Estimate& e, double exact, double k = 4.0) {
+    INFO("estimate " << e.value << " +- " << e.se << " vs exact " << exact);
+    return std::abs(e.value - exact) <= k * e.se && e.se > 0;
+}
+}  // namespace
+
+TEST_CASE("Beer-Lambert for w0 = 0: Ed(z) = T Ed(0+) exp(-c z / mu_w)") {
+    TransportSettings s;
+    s.photons = 400000;
+    s.depths = {0.0, 1.0, 3.0};
+    s.absorption = AbsorptionMode::analog;
+    const auto r = run(IsotropicPhase{}, 0.0, s);
+    const double t = 1.0 - fresnel_reflectance(0.5, 1.0, 1.34);
+    const double mu_w = FlatSurface(1.34).transmit_into_water(CollimatedSun(60).direction()).z;
+    for (std::size_t i = 0; i < s.depths.size(); ++i) {
+        const double exact = 0.5 * t * std::exp(-s.depths[i] / mu_w);
+        CHECK(within_se(r.irradiance[i][Ed], exact));
+        CHECK(r.irradiance[i][Eu].value == 0.0);
+        // The direct beam's scalar irradiance is Ed / mu_w (layer average of exp(-z/mu))
+        if (s.depths[i] > 0) CHECK(within_se(r.irradiance[i][Eod], exact / mu_w, 5.0));
+    }
+    CHECK(r.records.empty());
+}
+
+TEST_CASE("Energy balances exactly for a non-absorbing finite slab (analog)") {
+    TransportSettings s;
+    s.photons = 50000;
+    s.map_photons = 50000;
+    s.depths = {0.5};
+    s.absorption = AbsorptionMode::analog;
+    const auto r = run(HenyeyGreensteinPhase(0.8), 1.0, s, Bottom::transparent_at(2.0));
+    CHECK(r.ledger.incident == Approx(1.0));
+    CHECK(r.ledger.absorbed == 0.0);
+    CHECK(std::abs(r.ledger.imbalance()) < 1e-12);
+    CHECK(r.ledger.surface_reflected + r.ledger.escaped_up + r.ledger.transmitted == Approx(1.0).epsilon(1e-12));
+    CHECK(r.ledger.transmitted > 0.3);
+    CHECK(r.ledger.escaped_up > 0.01);
+    for (const auto& rec : r.records) {
+        REQUIRE(rec.x >= 0.0f);
+        REQUIRE(rec.x < 1.0f);
+        REQUIRE(rec.z >= 0.0f);
+        REQUIRE(rec.z <= 2.0f);
+    }
+}
+
+TEST_CASE("Energy balances with implicit capture and Russian roulette (in expectation)") {
+    TransportSettings s;
+    s.photons = 100000;
+    s.depths = {1.0};
+    s.absorption = AbsorptionMode::implicit_capture;
+    s.roulette_weight = 0.01;
+    const auto r = run(HenyeyGreensteinPhase(0.8), 0.7, s, Bottom::lambertian_at(3.0, 0.5));
+    // The roulette terms are each O(0.01); their difference has zero mean.
+    CHECK(std::abs(r.ledger.imbalance()) < 5e-3);
+    CHECK(r.ledger.absorbed_bottom > 0.0);
+}
+
+TEST_CASE("Implicit capture and analog transport agree within their standard errors") {
+    TransportSettings s;
+    s.photons = 200000;
+    s.depths = {1.0, 4.0};
+    s.absorption = AbsorptionMode::analog;
+    const auto a = run(HenyeyGreensteinPhase(0.7), 0.5, s);
+    s.absorption = AbsorptionMode::implicit_capture;
+    const auto b = run(HenyeyGreensteinPhase(0.7), 0.5, s);
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            const auto& x = a.irradiance[i][k];
+            const auto& y = b.irradiance[i][k];
+            INFO("depth " << s.depths[i] << " quantity " << k << ": " << x.value << "+-" << x.se << " vs " << y.value
+                          << "+-" << y.se);
+            CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
+        }
+}
+
+TEST_CASE("Results are bit-identical for 1 and 2 threads") {
+    TransportSettings s;
+    s.photons = 30000;
+    s.map_photons = 20000;
+    s.depths = {0.0, 1.0, 5.0};
+    s.block_size = 1000;
+    s.absorption = AbsorptionMode::implicit_capture;
+    s.threads = 1;
+    const auto a = run(HenyeyGreensteinPhase(0.9), 0.9, s);
+    s.threads = 2;
+    const auto b = run(HenyeyGreensteinPhase(0.9), 0.9, s);
+    REQUIRE(a.records.size() == b.records.size());
+    REQUIRE(std::memcmp(a.records.data(), b.records.data(), a.records.size() * sizeof(CompactRecord)) == 0);
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            REQUIRE(a.irradiance[i][k].value == b.irradiance[i][k].value);
+            REQUIRE(a.irradiance[i][k].se == b.irradiance[i][k].se);
+        }
+    REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
+}
+
+TEST_CASE("Invalid transport settings are rejected by name") {
+    TransportSettings s;
+    s.photons = 10;
+    s.batches = 1;
+    REQUIRE_THROWS_WITH(s.validate(), Catch::Contains("batches"));
+    s.batches = 4;
+    s.map_photons = 11;
+    REQUIRE_THROWS_WITH(s.validate(), Catch::Contains("map photons"));
+}
