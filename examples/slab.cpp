@@ -20,7 +20,8 @@ Depths and lengths are optical (c = 1 /m). Defaults:
   --depths 1,5,10  --photons 1000000  --map-photons min(photons, 2000000)  --seed 1
   --threads 1  --batches 32  --store voi  --radius 0.05  --steps 64  --omega 0.005 (sr)
   --ray-length 8  --ray-grid 10 (10 x 10 vertical rays per depth)  --section-width 1
-  --absorption implicit|analog (default implicit: survival weighting with Russian roulette)
+  --absorption continuous|implicit|analog (default continuous: free paths from b, weight
+               exp(-a s) along each flight; implicit: weight x w0 per collision; analog)
   --bottom-albedo 0 (with --bottom-depth: a Lambertian bottom)
 )";
 
@@ -80,10 +81,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     t.seed = cl.count("seed", 1);
     t.threads = static_cast<unsigned>(cl.count("threads", 1));
     t.batches = static_cast<unsigned>(cl.count("batches", 32));
-    const std::string absorption = cl.text("absorption", "implicit");
-    if (absorption != "implicit" && absorption != "analog")
-        secchi::reject("--absorption", absorption, "must be implicit or analog");
-    t.absorption = absorption == "analog" ? secchi::AbsorptionMode::analog : secchi::AbsorptionMode::implicit_capture;
+    t.absorption = secchi::parse_absorption(cl.text("absorption", "continuous"));
     cfg.store = secchi::parse_store(cl.text("store", "voi"));
     cfg.radius = cl.number("radius", 0.05);
     cfg.steps = static_cast<unsigned>(cl.count("steps", 64));

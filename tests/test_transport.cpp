@@ -76,22 +76,38 @@ TEST_CASE("Energy balances with implicit capture and Russian roulette (in expect
     CHECK(r.ledger.absorbed_bottom > 0.0);
 }
 
-TEST_CASE("Implicit capture and analog transport agree within their standard errors") {
+TEST_CASE("Implicit capture, continuous absorption and analog transport agree within their standard errors") {
     TransportSettings s;
     s.photons = 200000;
     s.depths = {1.0, 4.0};
     s.absorption = AbsorptionMode::analog;
-    const auto a = run(HenyeyGreensteinPhase(0.7), 0.5, s);
-    s.absorption = AbsorptionMode::implicit_capture;
-    const auto b = run(HenyeyGreensteinPhase(0.7), 0.5, s);
-    for (std::size_t i = 0; i < s.depths.size(); ++i)
-        for (int k = 0; k < 4; ++k) {
-            const auto& x = a.irradiance[i][k];
-            const auto& y = b.irradiance[i][k];
-            INFO("depth " << s.depths[i] << " quantity " << k << ": " << x.value << "+-" << x.se << " vs " << y.value
-                          << "+-" << y.se);
-            CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
-        }
+    const auto a = run(HenyeyGreensteinPhase(0.7), 0.5, s, Bottom::lambertian_at(6.0, 0.4));
+    for (AbsorptionMode mode : {AbsorptionMode::implicit_capture, AbsorptionMode::continuous}) {
+        s.absorption = mode;
+        const auto b = run(HenyeyGreensteinPhase(0.7), 0.5, s, Bottom::lambertian_at(6.0, 0.4));
+        for (std::size_t i = 0; i < s.depths.size(); ++i)
+            for (int k = 0; k < 4; ++k) {
+                const auto& x = a.irradiance[i][k];
+                const auto& y = b.irradiance[i][k];
+                INFO("mode " << static_cast<int>(mode) << " depth " << s.depths[i] << " quantity " << k << ": "
+                             << x.value << "+-" << x.se << " vs " << y.value << "+-" << y.se);
+                CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
+            }
+        CHECK(std::abs(b.ledger.imbalance()) < 5e-3);
+    }
+}
+
+TEST_CASE("Beer-Lambert with continuous absorption is exact per photon") {
+    // w0 = 0: b = 0, so no photon ever interacts and each crossing carries exp(-c z / mu_w).
+    TransportSettings s;
+    s.photons = 64;
+    s.depths = {2.0};
+    s.absorption = AbsorptionMode::continuous;
+    const auto r = run(IsotropicPhase{}, 0.0, s);
+    const double t = 1.0 - fresnel_reflectance(0.5, 1.0, 1.34);
+    const double mu_w = FlatSurface(1.34).transmit_into_water(CollimatedSun(60).direction()).z;
+    CHECK(r.irradiance[0][Ed].value == Approx(0.5 * t * std::exp(-2.0 / mu_w)).epsilon(1e-12));
+    CHECK(r.irradiance[0][Ed].se < 1e-15);
 }
 
 TEST_CASE("Results are bit-identical for 1 and 2 threads") {
@@ -100,7 +116,7 @@ TEST_CASE("Results are bit-identical for 1 and 2 threads") {
     s.map_photons = 20000;
     s.depths = {0.0, 1.0, 5.0};
     s.block_size = 1000;
-    s.absorption = AbsorptionMode::implicit_capture;
+    s.absorption = AbsorptionMode::continuous;
     s.threads = 1;
     const auto a = run(HenyeyGreensteinPhase(0.9), 0.9, s);
     s.threads = 2;

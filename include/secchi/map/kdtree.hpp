@@ -1,13 +1,13 @@
 #pragma once
 // The left-balanced k-d tree photon store (Jensen 2001, "Realistic Image Synthesis Using
-// Photon Mapping", ch. 6; manual 3.4.1-3.4.4).
+// Photon Mapping", ch. 6 and appendix B; manual 3.4.1-3.4.4).
 //
 // Layout: the records themselves are the tree. They are reordered into the heap order of a
 // left-balanced binary tree: node i has children 2i+1 and 2i+2, no pointers (Jensen 2001,
-// sec. 6.3; manual 3.4.1). Each internal node splits its subset at the median along the axis
-// of largest extent of the subset (manual eq. 3.19 context: "the key with the largest
-// spread"); records in the left subtree have coordinate <= the node's, records in the right
-// subtree >= it. Jensen keeps the split axis inside the photon; the 16-byte CompactRecord has
+// ch. 6; manual 3.4.1). Each internal node splits its subset at the median along the axis
+// of largest extent of the subset (manual 3.4.1: "the key with the largest spread");
+// records in the left subtree have coordinate <= the node's, records in the right subtree
+// >= it (ties may go either way, so queries treat both sides as closed). Jensen keeps the split axis inside the photon; the 16-byte CompactRecord has
 // no spare bits, so the axes live in a side array of uint8_t, 2 bits per internal node
 // (leaves, the last half of the heap, need none): 1/8 byte per photon.
 //
@@ -169,8 +169,12 @@ public:
         return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
     }
 
-    /// Squared distance of the current k-th hit; infinity until k hits are held.
-    [[nodiscard]] double worst2() const { return out_.size() < k_ ? infinity : out_.front().distance2; }
+    /// Squared distance of the current k-th hit; infinity until k hits are held (-infinity
+    /// for k = 0: nothing can enter).
+    [[nodiscard]] double worst2() const {
+        if (k_ == 0) return -infinity;
+        return out_.size() < k_ ? infinity : out_.front().distance2;
+    }
 
     /// Could a record at squared distance >= bound2 still enter? (rounding-safe, ties enter)
     [[nodiscard]] bool may_accept(double bound2) const { return bound2 <= pruning_radius2(worst2()); }
@@ -201,7 +205,7 @@ class KdTreeStore {
 public:
     using record_type = Record;
 
-    /// Builds the left-balanced tree (Jensen 2001, sec. 6.3, "balance").
+    /// Builds the left-balanced tree (Jensen 2001, ch. 6, "balance").
     explicit KdTreeStore(std::vector<Record> records) {
         detail::require_indexable(records.size());
         bounds_ = detail::bounding_box(records);
@@ -230,10 +234,11 @@ public:
             const std::uint32_t i = stack.pop();
             const vec3 q = heap_[i].position();
             if (is_internal(i)) {
-                const double delta = p[split_axis(i)] - q[split_axis(i)];
+                const int a = split_axis(i);
+                const double delta = p[a] - q[a];
                 const auto [near, far] = children(i, delta);
                 if (far < heap_.size() && delta * delta <= prune2) stack.push(far);
-                stack.push(near);
+                if (near < heap_.size()) stack.push(near);
             }
             const vec3 d = q - p;
             const double d2 = glm::dot(d, d);
@@ -272,10 +277,11 @@ public:
             if (!best.may_accept(entry.bound2)) continue;
             const vec3 q = heap_[entry.node].position();
             if (is_internal(entry.node)) {
-                const double delta = p[split_axis(entry.node)] - q[split_axis(entry.node)];
+                const int a = split_axis(entry.node);
+                const double delta = p[a] - q[a];
                 const auto [near, far] = children(entry.node, delta);
                 if (far < heap_.size()) stack.push({far, std::max(entry.bound2, delta * delta)});
-                stack.push({near, entry.bound2});
+                if (near < heap_.size()) stack.push({near, entry.bound2});
             }
             const vec3 d = q - p;
             best.offer(Hit{entry.node, 0.0, glm::dot(d, d)});
@@ -320,7 +326,7 @@ private:
     }
 
     /// Size of the left subtree of a left-balanced tree of n nodes: the levels above the last
-    /// are full, and the last level fills from the left (Jensen 2001, sec. 6.3).
+    /// are full, and the last level fills from the left (Jensen 2001, ch. 6).
     static std::size_t left_subtree_size(std::size_t n) {
         if (n <= 1) return 0;
         const std::size_t last = std::bit_width(n) - 1;               // depth of the last level

@@ -11,11 +11,15 @@
 //  - within(p, r): one radius search with a result set wrapping the Collector (nanoflann's
 //    RadiusResultSet idea: addPoint returns false to stop the search).
 //  - along(ray, r): radius searches centred at steps of length h = 2r along the segment,
-//    radius r sqrt(2) (plus the rounding pad): a record in the cylinder projects within r of
-//    some centre along the ray and lies within r of the ray, so within r sqrt(2) of that
-//    centre. Candidates are filtered with in_cylinder, and a hit is reported only by the step
-//    whose centre is closest to its t (round(t / h)), so each record is reported exactly once.
-//    Steps cover only the part of the segment inside the records' bounding box padded by r.
+//    radius r sqrt(2): a record in the cylinder projects within r of some centre along the ray
+//    and lies within r of the ray, so within r sqrt(2) of that centre. (Exactly: r is replaced
+//    by the rounding-safe pad, r plus a margin, see kdtree.hpp's detail::pruning_pad.)
+//    Candidates are filtered with in_cylinder, and a hit is reported only by the step whose
+//    centre is closest to its t (round(t / h)), so each record is reported exactly once.
+//    Steps cover only the part of the segment inside the records' bounding box padded by r,
+//    and a nearest-record probe at each step skips the following steps whose balls are
+//    provably empty, so empty space costs a few probes however small r is. (The pad is at
+//    least ~3e-7 t_max, so a segment never needs more than ~2e6 steps.)
 //  - nearest(p, k): a k-best result set; ties broken by the smaller index.
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
@@ -45,6 +49,11 @@ struct NanoflannDataset {
     }
 };
 
+/// The bound a result set reports as worstDist(): nanoflann admits a candidate only if its
+/// squared distance is strictly below it, so the rounding-safe bound is raised by one ulp
+/// (records exactly at the bound, even at distance 0, still reach addPoint).
+inline double admit_below(double bound2) { return std::nextafter(pruning_radius2(bound2), infinity); }
+
 /// Result set for within(): exact re-test, then the Collector (which may stop the search).
 template <PhotonRecord Record, Collector C>
 class WithinResultSet {
@@ -53,7 +62,7 @@ public:
         : records_(records), p_(p), r2_(r2), collect_(collect) {}
 
     [[nodiscard]] bool full() const { return true; }
-    [[nodiscard]] double worstDist() const { return pruning_radius2(r2_); }
+    [[nodiscard]] double worstDist() const { return admit_below(r2_); }
     [[nodiscard]] bool stopped() const { return stopped_; }
 
     bool addPoint(double, std::uint32_t i) {
@@ -85,7 +94,7 @@ public:
     static double closest_step(double t, double step) { return std::floor(t / step + 0.5); }
 
     [[nodiscard]] bool full() const { return true; }
-    [[nodiscard]] double worstDist() const { return ball2_; }
+    [[nodiscard]] double worstDist() const { return admit_below(ball2_); }
     [[nodiscard]] bool stopped() const { return stopped_; }
 
     bool addPoint(double, std::uint32_t i) {
@@ -105,7 +114,7 @@ private:
 };
 
 /// Result set for nearest(): exact distances into a k-best list. The reported worst distance
-/// is padded so records tied with the k-th reach addPoint (nanoflann's leaf test is strict).
+/// is padded so records tied with the k-th reach addPoint (ties are broken by index).
 template <PhotonRecord Record>
 class NearestResultSet {
 public:
@@ -113,7 +122,7 @@ public:
         : records_(records), p_(p), best_(best) {}
 
     [[nodiscard]] bool full() const { return true; }
-    [[nodiscard]] double worstDist() const { return pruning_radius2(best_.worst2()); }
+    [[nodiscard]] double worstDist() const { return admit_below(best_.worst2()); }
 
     bool addPoint(double, std::uint32_t i) {
         const vec3 d = records_[i].position() - p_;
@@ -125,6 +134,28 @@ private:
     const std::vector<Record>& records_;
     vec3 p_;
     KBest& best_;
+};
+
+/// Result set for the distance to the nearest record (exact squared distance).
+template <PhotonRecord Record>
+class NearestDistanceResultSet {
+public:
+    NearestDistanceResultSet(const std::vector<Record>& records, const vec3& p) : records_(records), p_(p) {}
+
+    [[nodiscard]] bool full() const { return true; }
+    [[nodiscard]] double worstDist() const { return admit_below(best2_); }
+    [[nodiscard]] double distance2() const { return best2_; }
+
+    bool addPoint(double, std::uint32_t i) {
+        const vec3 d = records_[i].position() - p_;
+        best2_ = std::min(best2_, glm::dot(d, d));
+        return true;
+    }
+
+private:
+    const std::vector<Record>& records_;
+    vec3 p_;
+    double best2_ = infinity;
 };
 
 }  // namespace detail
@@ -162,22 +193,30 @@ public:
     template <Collector C>
     bool along(const Ray& ray, Radius r, C& collect) const {
         if (size() == 0) return true;
-        const double r2 = r.squared(), step = 2.0 * r.value();
+        const double r2 = r.squared();
         const detail::PaddedSegment segment(ray, r2);
         const auto [t0, t1] = segment.clip(bounds_.lo, bounds_.hi);
         if (t0 > t1) return true;
-        // Ball radius: the pad (>= r plus rounding) along the ray and across it.
-        const double ball2 = detail::pruning_radius2(2.0 * segment.pad() * segment.pad());
+        // Steps of 2 pad (pad = r plus the rounding margin, detail::pruning_pad); a record the
+        // oracle accepts lies within pad of the ray and within pad of its closest centre along
+        // it, so within pad sqrt(2) of that centre.
+        const double step = 2.0 * segment.pad(), ball = std::sqrt(2.0) * segment.pad();
+        const double ball2 = ball * ball;
+        const double stride = step * glm::length(ray.direction);  // distance between centres
         using StepSet = detail::AlongStepResultSet<Record, C>;
         // One spare step at each end: extra steps cost time, never correctness.
         const double first = std::max(0.0, StepSet::closest_step(t0, step) - 1.0);
         const double last = StepSet::closest_step(t1, step) + 1.0;
-        const auto steps = static_cast<std::uint64_t>(last - first) + 1;
-        for (std::uint64_t j = 0; j < steps; ++j) {
-            const double k = first + static_cast<double>(j);
+        for (double k = first; k <= last;) {
+            const vec3 centre = ray.origin + (k * step) * ray.direction;
+            if (const double empty = empty_steps(centre, ball, stride); empty > 0.0) {
+                k += empty;
+                continue;
+            }
             StepSet result(index_->records, ray, r2, step, k, ball2, collect);
-            search(ray.origin + (k * step) * ray.direction, result);
+            search(centre, result);
             if (result.stopped()) return false;
+            k += 1.0;
         }
         return true;
     }
@@ -205,6 +244,19 @@ private:
         explicit Index(std::vector<Record> r)
             : records(std::move(r)), tree(3, dataset, nanoflann::KDTreeSingleIndexAdaptorParams(leaf_size)) {}
     };
+
+    /// How many steps, from the one centred at `centre`, have provably empty balls: the ball
+    /// j strides further lies inside the sphere of radius j stride + ball about `centre`,
+    /// which holds no record while that radius is below the nearest record's distance
+    /// (shrunk by 1e-9 for rounding). This lets along() cross empty space in a few steps
+    /// however small the radius.
+    double empty_steps(const vec3& centre, double ball, double stride) const {
+        detail::NearestDistanceResultSet<Record> nearest(index_->records, centre);
+        search(centre, nearest);
+        const double clearance = std::sqrt(nearest.distance2()) * (1.0 - 1e-9) - ball;
+        if (clearance <= 0.0) return 0.0;
+        return stride > 0.0 ? std::floor(clearance / stride) + 1.0 : detail::infinity;
+    }
 
     template <class ResultSet>
     void search(const vec3& centre, ResultSet& result) const {

@@ -78,10 +78,11 @@ inline bool in_cylinder(const Ray& ray, const vec3& p, double r2, Hit& hit) {
     const vec3 d = p - ray.origin;
     const double t = glm::dot(d, ray.direction);
     if (t < 0.0 || t > ray.t_max) return false;
-    const double dist2 = glm::dot(d, d) - t * t;
+    const vec3 perp = d - t * ray.direction;  // not |d|^2 - t^2: that cancels badly far from the origin
+    const double dist2 = glm::dot(perp, perp);
     if (dist2 > r2) return false;
     hit.t = t;
-    hit.distance2 = std::max(0.0, dist2);
+    hit.distance2 = dist2;
     return true;
 }
 

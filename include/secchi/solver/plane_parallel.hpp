@@ -53,6 +53,7 @@ struct PlaneParallelConfig {
     double ray_length = 8.0;       ///< m; Lu integrates the path radiance over this length (or to the bottom)
     unsigned ray_grid = 10;        ///< K x K vertical rays per depth
     double section_width = 1.0;    ///< m, periodic horizontal section
+    double escape_margin = 20.0;   ///< attenuation lengths below the deepest ray end where photons stop (deep water)
     bool keep_map = false;         ///< return the stored records (for images)
 };
 
@@ -112,9 +113,11 @@ PlaneParallelResult solve_plane_parallel(const Phase& phase, PlaneParallelConfig
     const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
     double deepest = 0.0;
     for (double z : cfg.transport.depths) deepest = std::max(deepest, z);
-    // Infinitely deep water: photons below the deepest ray's end plus 4 attenuation lengths
-    // cannot contribute measurably (their return is attenuated by more than e^-8).
-    const double escape = deepest + cfg.ray_length + 4.0 / cfg.attenuation;
+    // Infinitely deep water: photons that sink escape_margin below the deepest ray's end stop.
+    // Their return to the detectors is attenuated at least by the diffuse attenuation both
+    // ways, exp(-2 K margin); K is as small as 0.2 c in clear forward-scattering water
+    // (problem 2a), so the default margin of 20 attenuation lengths leaves < 1e-3.
+    const double escape = deepest + cfg.ray_length + cfg.escape_margin / cfg.attenuation;
     const Slab slab(cfg.section_width, cfg.bottom, escape);
     const PhotonTracer<HomogeneousWater<Phase>, Record> tracer(medium, slab, FlatSurface(cfg.water_index),
                                                                CollimatedSun(cfg.sun_zenith_deg), cfg.transport);

@@ -32,26 +32,33 @@ public:
     [[nodiscard]] const std::vector<double>& depths() const { return depths_; }
     [[nodiscard]] double thickness() const { return thickness_; }
 
-    /// Tallies one straight flight from depth z0 to z1 (direction cosine uz, path length s,
-    /// weight w) into `tally` (one entry per depth).
-    void record(double z0, double z1, double uz, double s, double w, IrradianceTally* tally) const {
+    /// Tallies one straight flight from depth z0 to z1 (direction cosine uz, path length s)
+    /// into `tally` (one entry per depth). The weight is w at the start and decays as
+    /// w exp(-a t) along the flight (a = 0 unless absorption is applied continuously).
+    void record(double z0, double z1, double uz, double s, double w, double a, IrradianceTally* tally) const {
         for (std::size_t i = 0; i < depths_.size(); ++i) {
             const double d = depths_[i];
             // Half-open crossing rule: a flight starting on the plane going down counts as Ed,
             // one ending on it going up counts as Eu (so the surface plane z = 0 works).
-            if (uz > 0.0 && z0 <= d && d < z1) tally[i][Ed] += w;
-            if (uz < 0.0 && z1 <= d && d < z0) tally[i][Eu] += w;
-            const double len = track_in_layer(z0, uz, s, layers_[i].first, layers_[i].second);
-            if (len > 0.0) tally[i][uz >= 0.0 ? Eod : Eou] += w * len / thickness_;
+            if (uz > 0.0 && z0 <= d && d < z1) tally[i][Ed] += w * std::exp(-a * (d - z0) / uz);
+            if (uz < 0.0 && z1 <= d && d < z0) tally[i][Eu] += w * std::exp(-a * (d - z0) / uz);
+            const auto [ta, tb] = track_in_layer(z0, uz, s, layers_[i].first, layers_[i].second);
+            if (tb > ta) tally[i][uz >= 0.0 ? Eod : Eou] += w * weighted_length(ta, tb, a) / thickness_;
         }
     }
 
 private:
-    static double track_in_layer(double z0, double uz, double s, double lo, double hi) {
-        if (uz == 0.0) return (z0 >= lo && z0 <= hi) ? s : 0.0;
+    /// The part [ta, tb] of the flight's path [0, s] inside the layer [lo, hi] (ta >= tb: none).
+    static std::pair<double, double> track_in_layer(double z0, double uz, double s, double lo, double hi) {
+        if (uz == 0.0) return (z0 >= lo && z0 <= hi) ? std::pair{0.0, s} : std::pair{0.0, 0.0};
         double ta = (lo - z0) / uz, tb = (hi - z0) / uz;
         if (ta > tb) std::swap(ta, tb);
-        return std::max(0.0, std::min(tb, s) - std::max(ta, 0.0));
+        return {std::max(ta, 0.0), std::min(tb, s)};
+    }
+    /// Integral of exp(-a t) over [ta, tb].
+    static double weighted_length(double ta, double tb, double a) {
+        if (a * (tb - ta) < 1e-8) return (tb - ta) * std::exp(-a * ta);
+        return (std::exp(-a * ta) - std::exp(-a * tb)) / a;
     }
 
     std::vector<double> depths_;

@@ -67,7 +67,8 @@ public:
     PhotonTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
                  TransportSettings settings)
         : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(std::move(settings)),
-          layers_(s_.depths, s_.layer_thickness, slab.floor_depth()) {
+          layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
+          continuous_(s_.absorption == AbsorptionMode::continuous) {
         s_.validate();
     }
 
@@ -100,9 +101,10 @@ private:
         if (!enter_water(p, rng, out.ledger)) return;
         const bool stores = index < s_.map_photons;
         const auto map_batch = static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0);
-        const double c = medium_.attenuation(), floor = slab_.floor_depth();
+        // Free paths (manual eq. 3.17) use c, or b alone when absorption is continuous.
+        const double c = continuous_ ? medium_.scattering() : medium_.attenuation(), floor = slab_.floor_depth();
         while (true) {
-            const double s = -std::log(rng.uniform()) / c;  // free path, manual eq. 3.17
+            const double s = c > 0.0 ? -std::log(rng.uniform()) / c : INFINITY;
             const double z1 = p.pos.z + p.dir.z * s;
             if (z1 < 0.0) {                               // reaches the surface from below
                 const double t = -p.pos.z / p.dir.z;
@@ -125,7 +127,7 @@ private:
     /// Transmission through the surface from the air (Fresnel). False if the photon is lost.
     bool enter_water(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
         const double r = surface_.reflectance_from_air(p.dir);
-        if (s_.absorption == AbsorptionMode::implicit_capture) {
+        if (s_.absorption != AbsorptionMode::analog) {
             ledger.surface_reflected += r;  // expected value: the weight carries the transmittance
             p.w = 1.0 - r;
         } else if (rng.uniform() < r) {
@@ -155,7 +157,7 @@ private:
             ledger.transmitted += p.w;
             return false;
         }
-        if (s_.absorption == AbsorptionMode::implicit_capture) {
+        if (s_.absorption != AbsorptionMode::analog) {
             ledger.absorbed_bottom += p.w * (1.0 - b.albedo);
             p.w *= b.albedo;
         } else if (rng.uniform() >= b.albedo) {
@@ -170,12 +172,19 @@ private:
         return roulette(p, rng, ledger);
     }
 
-    /// Moves the photon by path length s, tallying the detectors it passes.
+    /// Moves the photon by path length s, tallying the detectors it passes (and, with
+    /// continuous absorption, attenuating its weight by exp(-a s)).
     void fly(PhotonState& p, double s, detail::BlockResult<Record>& out) const {
         const double z1 = p.pos.z + p.dir.z * s;
-        layers_.record(p.pos.z, z1, p.dir.z, s, p.w, out.tally.data());
+        const double a = continuous_ ? medium_.absorption() : 0.0;
+        layers_.record(p.pos.z, z1, p.dir.z, s, p.w, a, out.tally.data());
         p.pos += p.dir * s;
         p.pos.z = z1;
+        if (continuous_) {
+            const double w = p.w * std::exp(-a * s);
+            out.ledger.absorbed += p.w - w;
+            p.w = w;
+        }
     }
 
     /// An interaction in the water: absorption or scattering by the albedo, storage of the
@@ -187,7 +196,9 @@ private:
             return false;
         }
         const double w0 = medium_.albedo();
-        if (s_.absorption == AbsorptionMode::implicit_capture) {
+        if (continuous_) {
+            if (stores && rng.uniform() < p.w) store(p, out, map_batch);  // every interaction scatters
+        } else if (s_.absorption == AbsorptionMode::implicit_capture) {
             out.ledger.absorbed += p.w * (1.0 - w0);
             p.w *= w0;
             if (stores && rng.uniform() < p.w) store(p, out, map_batch);  // equal-flux storage
@@ -272,6 +283,7 @@ private:
     CollimatedSun sun_;
     TransportSettings s_;
     IrradianceLayers layers_;
+    bool continuous_;
 };
 
 }  // namespace secchi

@@ -1,0 +1,112 @@
+#pragma once
+// The phase function averaged over the collection cone (manual eq. 3.5): a photon travelling
+// in direction xi' contributes to the radiance seen along xi through
+//   pbar = (1/omega) int_omega p(xi' . xi_w) dxi_w,
+// the mean of p over a cone of solid angle omega around xi. For Petzold's forward peak this
+// differs greatly from the point value p(xi' . xi) when the photon travels nearly along xi.
+//
+// pbar depends only on psi, the angle between the photon direction and the cone axis. With
+// alpha the cone half-angle (omega = 2 pi (1 - cos alpha)), group the cone's points by their
+// angle gamma from the photon direction: the circle of radius gamma about the photon
+// direction lies inside the cone over an arc of length
+//   L(gamma) = 2 acos((cos alpha - cos psi cos gamma) / (sin psi sin gamma))   (clamped),
+// so that pbar(psi) = (1/omega) int p(gamma) L(gamma) sin(gamma) dgamma: a 1-D integral over
+// gamma in [|psi - alpha|, psi + alpha] (plus the full circles below alpha - psi), done with
+// the shared integrate_solid_angle. L has square-root ends at |psi - alpha| and psi + alpha;
+// panels graded geometrically towards both keep the quadrature accurate there.
+//
+// pbar is tabulated at construction on a psi grid (0; log-spaced from 1e-4 alpha to 10 deg;
+// uniform to 180 deg; graded about psi = alpha, where Petzold's singular peak crosses the
+// cone's edge and pbar has a cusp) and evaluated by linear interpolation in psi.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "secchi/core/error.hpp"
+#include "secchi/optics/phase/phase_function.hpp"
+
+namespace secchi {
+
+template <PhaseFunction P>
+class ConeAveragedPhase {
+public:
+    /// omega: the cone's solid angle (sr), in (0, 4 pi).
+    ConeAveragedPhase(const P& p, double omega, std::size_t n_log = 2048, std::size_t n_uniform = 4096)
+        : omega_(omega), name_(std::string("cone_average(").append(p.name()).append(")")) {
+        require(omega > 0.0 && omega < four_pi, "omega", omega, "the cone's solid angle must lie in (0, 4 pi) sr");
+        require(n_log >= 2 && n_uniform >= 2, "grid size", std::min(n_log, n_uniform), "needs at least 2 points");
+        alpha_ = 2.0 * std::asin(std::sqrt(omega / four_pi));  // 1 - cos alpha = omega / (2 pi)
+        psi_ = make_grid(n_log, n_uniform);
+        const auto bps = breakpoints_of(p);
+        for (double psi : psi_) value_.push_back(average(p, bps, psi));
+    }
+
+    /// pbar at cos_psi (1/sr), linear interpolation in psi.
+    double eval(double cos_psi) const {
+        const double psi = std::acos(std::clamp(cos_psi, -1.0, 1.0));
+        const auto it = std::upper_bound(psi_.begin(), psi_.end(), psi);
+        const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(it - psi_.begin()) - 1, psi_.size() - 2);
+        const double w = (psi - psi_[i]) / (psi_[i + 1] - psi_[i]);
+        return (1.0 - w) * value_[i] + w * value_[i + 1];
+    }
+
+    double omega() const { return omega_; }
+    double half_angle() const { return alpha_; }
+    /// The tabulation grid (radians): pbar is piecewise linear in psi between these angles.
+    std::vector<double> breakpoints() const { return psi_; }
+    std::string name() const { return name_; }
+
+private:
+    std::vector<double> make_grid(std::size_t n_log, std::size_t n_uniform) const {
+        const double lo = 1e-4 * alpha_, mid = 10.0 * deg;
+        std::vector<double> g{0.0};
+        for (std::size_t i = 0; i < n_log; ++i) g.push_back(lo * std::pow(mid / lo, double(i) / double(n_log - 1)));
+        for (std::size_t i = 1; i < n_uniform; ++i) g.push_back(mid + (pi - mid) * double(i) / double(n_uniform - 1));
+        for (int j = 0; j <= 288; ++j) {  // 6 decades either side of the cone's edge, 48 per decade
+            const double r = alpha_ * std::pow(10.0, -j / 48.0);
+            for (double x : {alpha_ - r, alpha_ + r})
+                if (x >= 0.0 && x <= pi) g.push_back(x);
+        }
+        g.push_back(alpha_);
+        std::sort(g.begin(), g.end());
+        g.erase(std::unique(g.begin(), g.end()), g.end());
+        g.back() = pi;
+        return g;
+    }
+
+    /// Fraction L(gamma) / (2 pi) of the circle at angle gamma from the photon direction that
+    /// lies inside the cone whose axis is at angle psi. cos alpha - cos psi cos gamma is written
+    /// as sin psi sin gamma - 2 sin((alpha + d)/2) sin((alpha - d)/2), d = psi - gamma.
+    double inside_fraction(double psi, double gamma) const {
+        if (gamma <= alpha_ - psi || gamma >= two_pi - psi - alpha_) return 1.0;
+        if (gamma >= psi + alpha_ || gamma <= psi - alpha_) return 0.0;
+        const double d = psi - gamma;
+        const double x = 1.0 - 2.0 * std::sin(0.5 * (alpha_ + d)) * std::sin(0.5 * (alpha_ - d)) /
+                                   (std::sin(psi) * std::sin(gamma));
+        return std::acos(std::clamp(x, -1.0, 1.0)) / pi;
+    }
+
+    /// pbar(psi) = (1/omega) 2 pi int p(gamma) L(gamma)/(2 pi) sin(gamma) dgamma.
+    double average(const P& p, const std::vector<double>& phase_bps, double psi) const {
+        const double a = std::max(0.0, psi - alpha_), b = std::min(pi, psi + alpha_);
+        const double k1 = std::abs(psi - alpha_), k2 = std::min(psi + alpha_, two_pi - psi - alpha_);
+        std::vector<double> bps = phase_bps;
+        bps.insert(bps.end(), {k1, k2});
+        for (int j = 1; j <= 30; ++j) {  // geometric grading towards the square-root ends of L
+            const double r = (k2 - k1) * std::ldexp(1.0, -j);
+            bps.insert(bps.end(), {k1 + r, k2 - r});
+        }
+        const auto integrand = [&](double gamma) {
+            return static_cast<double>(p.eval(std::cos(gamma))) * inside_fraction(psi, gamma);
+        };
+        return integrate_solid_angle(integrand, a, b, bps) / omega_;
+    }
+
+    double omega_;
+    double alpha_ = 0.0;
+    std::string name_;
+    std::vector<double> psi_, value_;
+};
+
+}  // namespace secchi

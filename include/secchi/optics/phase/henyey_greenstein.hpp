@@ -1,0 +1,52 @@
+#pragma once
+// Henyey-Greenstein phase function (Henyey and Greenstein 1941; manual section 4.13.1,
+// eq. 4.70): p(psi) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos psi)^{3/2}), mean cosine g.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "secchi/core/error.hpp"
+#include "secchi/optics/phase/phase_function.hpp"
+
+namespace secchi {
+
+class HenyeyGreensteinPhase {
+public:
+    explicit HenyeyGreensteinPhase(double g) : g_(g) {
+        require(std::abs(g) < 1.0, "g", g, "the Henyey-Greenstein asymmetry parameter needs |g| < 1");
+    }
+
+    /// 1 + g^2 - 2 g mu written as (1 - g)^2 + 2 g (1 - mu): no cancellation near the peak.
+    double eval(double cos_psi) const {
+        const double d = (1.0 - g_) * (1.0 - g_) + 2.0 * g_ * (1.0 - cos_psi);
+        return (1.0 - g_ * g_) / (four_pi * d * std::sqrt(d));
+    }
+    double pdf(double cos_psi) const { return eval(cos_psi); }
+
+    /// Exact inverse CDF. With s = 2 u - 1 the usual inversion
+    /// mu = (1 + g^2 - ((1 - g^2) / (1 + g s))^2) / (2 g)
+    /// is, after expanding and cancelling the factor g analytically,
+    /// mu = (s + g (3 + s^2)/2 + g^2 s + g^3 (s^2 - 1)/2) / (1 + g s)^2,
+    /// which has no 0/0 as g -> 0 (it gives mu = s, isotropic) and gives mu = +-1 at s = +-1.
+    PhaseSample sample(double u1, double u2) const {
+        const double s = 2.0 * u1 - 1.0, g = g_;
+        const double num = s + 0.5 * g * (3.0 + s * s) + g * g * s + 0.5 * g * g * g * (s * s - 1.0);
+        const double den = (1.0 + g * s) * (1.0 + g * s);
+        const double mu = std::clamp(num / den, -1.0, 1.0);
+        return {mu, two_pi * u2, pdf(mu)};
+    }
+
+    double g() const { return g_; }
+
+    std::string name() const {
+        std::ostringstream s;
+        s << "henyey_greenstein(g=" << g_ << ")";
+        return s.str();
+    }
+
+private:
+    double g_;
+};
+
+}  // namespace secchi

@@ -1,0 +1,23 @@
+#pragma once
+// Isotropic (uniform) scattering, manual eq. 5.26: p = 1/(4 pi).
+#include <string>
+
+#include "secchi/optics/phase/phase_function.hpp"
+
+namespace secchi {
+
+class IsotropicPhase {
+public:
+    double eval(double /*cos_psi*/) const { return 1.0 / four_pi; }
+    double pdf(double cos_psi) const { return eval(cos_psi); }
+
+    /// mu uniform in (-1, 1) (dOmega = dmu dphi), phi uniform in (0, 2 pi).
+    PhaseSample sample(double u1, double u2) const {
+        const double mu = 2.0 * u1 - 1.0;
+        return {mu, two_pi * u2, pdf(mu)};
+    }
+
+    std::string name() const { return "isotropic"; }
+};
+
+}  // namespace secchi

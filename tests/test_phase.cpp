@@ -1,0 +1,377 @@
+// Phase functions: normalisation, pdf == eval, sampling histograms (manual 7.3.4, spfhist, as a
+// chi-square test), published moments of the Petzold table (M93 Table 2), invalid input, and
+// the cone average of the manual's eq. 3.5.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "secchi/core/error.hpp"
+#include "secchi/core/rng.hpp"
+#include "secchi/optics/phase/cone_average.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/optics/phase/petzold.hpp"
+#include "secchi/optics/phase/rayleigh.hpp"
+#include "secchi/optics/phase/tabulated.hpp"
+
+using namespace secchi;
+using Catch::Matchers::Contains;
+
+namespace {
+
+/// 99.9 % quantile of chi-square with dof degrees of freedom (Wilson and Hilferty 1931):
+/// dof (1 - h + z sqrt(h))^3, h = 2 / (9 dof), z = 3.0902 the standard normal 99.9 % point.
+double chi2_quantile_999(int dof) {
+    const double z = 3.090232306167813, h = 2.0 / (9.0 * dof);
+    return dof * std::pow(1.0 - h + z * std::sqrt(h), 3);
+}
+
+template <class P>
+auto pdf_of_psi(const P& p) {
+    return [&p](double psi) { return static_cast<double>(p.pdf(std::cos(psi))); };
+}
+
+/// Bin edges in psi, equiprobable under the pdf: the numerical CDF on a fine grid (log-spaced
+/// below 0.1 rad), inverted by linear interpolation. Only the binning depends on this; the
+/// expected counts are integrated exactly over whatever edges result.
+template <class P>
+std::vector<double> equiprobable_edges(const P& p, int bins) {
+    const auto bps = breakpoints_of(p);
+    std::vector<double> grid{0.0};
+    for (int i = 0; i <= 2000; ++i) grid.push_back(1e-7 * std::pow(1e6, i / 2000.0));
+    for (int i = 1; i <= 2000; ++i) grid.push_back(0.1 + (pi - 0.1) * i / 2000.0);
+    std::vector<double> cdf{0.0};
+    for (std::size_t j = 0; j + 1 < grid.size(); ++j)
+        cdf.push_back(cdf.back() + integrate_solid_angle(pdf_of_psi(p), grid[j], grid[j + 1], bps));
+    std::vector<double> edges{0.0};
+    std::size_t j = 0;
+    for (int k = 1; k < bins; ++k) {
+        const double target = cdf.back() * k / bins;
+        while (cdf[j + 1] < target) ++j;
+        const double w = (target - cdf[j]) / (cdf[j + 1] - cdf[j]);
+        edges.push_back(grid[j] + w * (grid[j + 1] - grid[j]));
+    }
+    edges.push_back(pi);
+    return edges;
+}
+
+double chi_square(const std::vector<double>& observed, const std::vector<double>& expected) {
+    double chi2 = 0.0;
+    for (std::size_t k = 0; k < observed.size(); ++k)
+        chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+    return chi2;
+}
+
+struct HistogramResult {
+    double chi2_psi, chi2_phi, limit_psi, limit_phi;
+    bool samples_valid;  // cos_psi in [-1, 1], phi in [0, 2 pi), sample.pdf == pdf(cos_psi)
+};
+
+/// spfhist (manual 7.3.4) as a test: histogram 10^6 samples of `sampler` in 200 bins of psi
+/// equiprobable under `reference`, expected counts = N * (integral of reference's pdf over
+/// each bin); and 100 equal bins of phi.
+template <class S, class R>
+HistogramResult sampling_histogram(const S& sampler, const R& reference, std::uint64_t seed) {
+    const int n = 1000000, bins = 200, phi_bins = 100;
+    const auto edges = equiprobable_edges(reference, bins);
+    const auto bps = breakpoints_of(reference);
+    std::vector<double> expected, observed(bins, 0.0), phi_obs(phi_bins, 0.0);
+    double total = 0.0;
+    for (int k = 0; k < bins; ++k) {
+        expected.push_back(n * integrate_solid_angle(pdf_of_psi(reference), edges[k], edges[k + 1], bps));
+        total += expected.back();
+    }
+    REQUIRE(total == Approx(n).epsilon(1e-6));
+    PhotonRng rng(seed, 0);
+    bool valid = true;
+    for (int i = 0; i < n; ++i) {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        const PhaseSample s = sampler.sample(u1, u2);
+        valid = valid && s.cos_psi >= -1.0 && s.cos_psi <= 1.0 && s.phi >= 0.0 && s.phi < two_pi &&
+                s.pdf == sampler.pdf(s.cos_psi) && std::isfinite(s.pdf) && s.pdf > 0.0;
+        const double psi = std::acos(s.cos_psi);
+        const auto k = std::upper_bound(edges.begin(), edges.end(), psi) - edges.begin() - 1;
+        observed[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(k, 0, bins - 1))] += 1.0;
+        phi_obs[std::min<std::size_t>(static_cast<std::size_t>(s.phi / two_pi * phi_bins), phi_bins - 1)] += 1.0;
+    }
+    const std::vector<double> phi_exp(phi_bins, double(n) / phi_bins);
+    return {chi_square(observed, expected), chi_square(phi_obs, phi_exp), chi2_quantile_999(bins - 1),
+            chi2_quantile_999(phi_bins - 1), valid};
+}
+
+/// The checks (a)-(c) every phase function must pass.
+template <class P>
+void check_phase_function(const P& p, std::uint64_t seed) {
+    INFO(p.name());
+    const PhaseMoments m = phase_moments(p);
+    CHECK(std::abs(m.normalisation - 1.0) < 1e-6);  // (a)
+    for (double mu : {-1.0, -0.99999, -0.5, 0.0, 0.3, 0.9, 0.999, 0.99999999, 1.0 - 1e-15, 1.0}) {
+        CHECK(p.pdf(mu) == p.eval(mu));  // (b)
+        CHECK(std::isfinite(p.eval(mu)));
+        CHECK(p.eval(mu) > 0.0);
+    }
+    const HistogramResult h = sampling_histogram(p, p, seed);  // (c)
+    CHECK(h.samples_valid);
+    INFO("chi2(psi) = " << h.chi2_psi << " limit " << h.limit_psi << "; chi2(phi) = " << h.chi2_phi);
+    CHECK(h.chi2_psi < h.limit_psi);
+    CHECK(h.chi2_phi < h.limit_phi);
+}
+
+/// Samples from one function, claims to be another: the histogram test must reject it.
+template <class Claimed, class Actual>
+struct MislabelledSampler {
+    Claimed claimed;
+    Actual actual;
+    double eval(double mu) const { return claimed.eval(mu); }
+    double pdf(double mu) const { return actual.pdf(mu); }
+    PhaseSample sample(double u1, double u2) const { return actual.sample(u1, u2); }
+    std::string name() const { return "mislabelled"; }
+};
+
+/// The message of the secchi::input_error that f() throws ("" if it throws nothing; any
+/// other exception escapes and fails the test).
+template <class F>
+std::string input_error_message(F&& f) {
+    try {
+        f();
+    } catch (const input_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+/// HG backscatter fraction in closed form: (1 - g)/(2 g) ((1 + g)/sqrt(1 + g^2) - 1).
+double hg_backscatter(double g) {
+    return g == 0.0 ? 0.5 : (1.0 - g) / (2.0 * g) * ((1.0 + g) / std::sqrt(1.0 + g * g) - 1.0);
+}
+
+std::vector<double> petzold_angles() {
+    std::vector<double> a;
+    for (std::size_t i = 1; i < petzold_m93_table.size(); ++i) a.push_back(petzold_m93_table[i].angle_deg);
+    return a;
+}
+
+}  // namespace
+
+TEST_CASE("Wilson-Hilferty chi-square quantile") {
+    // Exact 99.9 % points (inverse regularised gamma): 10 dof 29.588, 99 dof 148.230,
+    // 199 dof 266.386. The approximation is within 0.6 % at 10 dof and 0.02 % at 199.
+    CHECK(chi2_quantile_999(10) == Approx(29.588).epsilon(1e-2));
+    CHECK(chi2_quantile_999(99) == Approx(148.230).epsilon(1e-3));
+    CHECK(chi2_quantile_999(199) == Approx(266.386).epsilon(1e-3));
+}
+
+TEST_CASE("isotropic phase function") {
+    check_phase_function(IsotropicPhase{}, 11);
+    CHECK(IsotropicPhase{}.eval(0.3) == Approx(1.0 / four_pi));
+    const auto m = phase_moments(IsotropicPhase{});
+    CHECK(m.mean_cosine == Approx(0.0).margin(1e-12));
+    CHECK(m.backscatter_fraction == Approx(0.5).epsilon(1e-12));
+}
+
+TEST_CASE("Rayleigh phase function") {
+    const RayleighPhase r;
+    check_phase_function(r, 12);
+    const auto m = phase_moments(r);
+    CHECK(m.mean_cosine == Approx(0.0).margin(1e-12));
+    CHECK(m.backscatter_fraction == Approx(0.5).epsilon(1e-12));
+    CHECK(r.eval(1.0) == Approx(3.0 / (8.0 * pi)));
+    // The Cardano root solves mu^3 + 3 mu - (8u - 4) = 0 across the range, also at q ~ -4.
+    for (double u : {1e-9, 0.01, 0.25, 0.5, 0.75, 0.99, 1.0 - 1e-9}) {
+        const double mu = r.sample(u, 0.5).cos_psi;
+        CHECK(mu * mu * mu + 3.0 * mu - (8.0 * u - 4.0) == Approx(0.0).margin(1e-13));
+    }
+}
+
+TEST_CASE("Henyey-Greenstein phase function") {
+    std::uint64_t seed = 20;
+    for (double g : {0.0, 0.5, 0.9, -0.7, 0.99}) {
+        const HenyeyGreensteinPhase hg(g);
+        check_phase_function(hg, ++seed);
+        const auto m = phase_moments(hg);
+        INFO("g = " << g);
+        CHECK(m.mean_cosine == Approx(g).epsilon(1e-6).margin(1e-9));
+        CHECK(m.backscatter_fraction == Approx(hg_backscatter(g)).epsilon(1e-6));
+    }
+    // The cancellation-free sampler agrees with the textbook inversion where that is accurate,
+    // and tends to the isotropic mu = 2u - 1 as g -> 0.
+    const double g = 0.5;
+    for (double u : {0.1, 0.5, 0.9}) {
+        const double t = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
+        CHECK(HenyeyGreensteinPhase(g).sample(u, 0.5).cos_psi == Approx((1.0 + g * g - t * t) / (2.0 * g)).epsilon(1e-13));
+        CHECK(HenyeyGreensteinPhase(1e-12).sample(u, 0.5).cos_psi == Approx(2.0 * u - 1.0).margin(1e-11));
+    }
+}
+
+TEST_CASE("the sampling histogram rejects a sampler that does not match its pdf") {
+    const MislabelledSampler<HenyeyGreensteinPhase, HenyeyGreensteinPhase> wrong{HenyeyGreensteinPhase(0.85),
+                                                                                HenyeyGreensteinPhase(0.86)};
+    const HistogramResult h = sampling_histogram(wrong, wrong.claimed, 99);
+    CHECK(h.chi2_psi > h.limit_psi);
+    CHECK(h.chi2_phi < h.limit_phi);
+}
+
+TEST_CASE("Petzold phase function, M93 trapezoidal convention") {
+    const TabulatedPhase p = petzold_m93();
+    check_phase_function(p, 31);
+    // The raw integral, recomputed here independently: power law below theta_0 (int of
+    // 2 pi p_0 theta_0^k psi^{1-k}) plus the trapezoidal rule on 2 pi p sin(psi).
+    const auto a = petzold_angles();
+    const double t0 = a[0] * deg, k = petzold_m93_exponent;
+    double raw = two_pi * petzold_m93_table[1].value * t0 * t0 / (2.0 - k);
+    for (std::size_t i = 1; i + 1 < petzold_m93_table.size(); ++i) {
+        const auto& [a0, p0] = petzold_m93_table[i];
+        const auto& [a1, p1] = petzold_m93_table[i + 1];
+        raw += 0.5 * (a1 - a0) * deg * two_pi * (p0 * std::sin(a0 * deg) + p1 * std::sin(a1 * deg));
+    }
+    CHECK(p.raw_integral() == Approx(raw).epsilon(1e-12));
+    CHECK(p.raw_integral() == Approx(1.002).margin(0.001));  // M93
+    const auto m = phase_moments(p);
+    CHECK(m.backscatter_fraction == Approx(0.0181).margin(0.0002));  // M93; the manual 0.01817
+    CHECK(m.mean_cosine == Approx(0.92).margin(0.01));
+    // The numerical moments agree with the table's exact cumulative integral.
+    CHECK(m.backscatter_fraction == Approx(1.0 - p.cumulative(0.5 * pi)).epsilon(1e-6));
+    // The small-angle law as the convention defines it: p_0 (theta_0/psi)^k psi / sin(psi).
+    const double psi = 0.1 * deg;
+    CHECK(p.eval(std::cos(psi)) * p.raw_integral() ==
+          Approx(1.29564e3 * std::pow(0.12589 / 0.1, 1.346) * psi / std::sin(psi)).epsilon(1e-9));
+    CHECK(p.eval(std::cos(0.1 * deg)) * p.raw_integral() == Approx(petzold_m93_table[0].value).epsilon(2e-4));
+    // Between nodes f = 2 pi p sin(psi) is linear: at the midpoint it is the mean of the ends.
+    const double mid = 47.5 * deg, f45 = 3.06722e-2 * std::sin(45 * deg), f50 = 2.27533e-2 * std::sin(50 * deg);
+    CHECK(p.eval(std::cos(mid)) * p.raw_integral() * std::sin(mid) == Approx(0.5 * (f45 + f50)).epsilon(1e-12));
+}
+
+TEST_CASE("Petzold phase function, p linearly interpolated") {
+    const TabulatedPhase p = petzold_m93(TabulatedConvention::linear_p);
+    check_phase_function(p, 32);
+    CHECK(p.raw_integral() == Approx(1.020).margin(0.002));
+    const auto m = phase_moments(p);
+    CHECK(m.backscatter_fraction == Approx(0.0178).margin(0.0003));
+    CHECK(m.backscatter_fraction == Approx(1.0 - p.cumulative(0.5 * pi)).epsilon(1e-6));
+    const double mid = 47.5 * deg;
+    CHECK(p.eval(std::cos(mid)) * p.raw_integral() == Approx(0.5 * (3.06722e-2 + 2.27533e-2)).epsilon(1e-12));
+}
+
+TEST_CASE("tabulated sampling inverts the exact cumulative integral") {
+    for (auto c : {TabulatedConvention::trapezoid, TabulatedConvention::linear_p}) {
+        const TabulatedPhase p = petzold_m93(c);
+        for (double u : {0.01, 0.02, 0.0589, 0.0590, 0.0599, 0.0600, 0.0601, 0.1, 0.3, 0.5, 0.9, 0.98, 0.99, 0.999, 0.999999}) {
+            const double psi = std::acos(p.sample(u, 0.5).cos_psi);
+            INFO(p.name() << " u = " << u);
+            CHECK(p.cumulative(psi) == Approx(u).margin(1e-9));
+        }
+    }
+    // A constant table under linear_p is the isotropic function exactly.
+    const TabulatedPhase flat({0.0, 90.0, 180.0}, {2.0, 2.0, 2.0}, TabulatedConvention::linear_p);
+    CHECK(flat.raw_integral() == Approx(2.0 * four_pi).epsilon(1e-14));
+    CHECK(flat.eval(0.3) == Approx(1.0 / four_pi).epsilon(1e-14));
+    check_phase_function(flat, 33);
+}
+
+TEST_CASE("invalid input names the parameter") {
+    using TP = TabulatedPhase;
+    using Cone = ConeAveragedPhase<IsotropicPhase>;
+    const auto tc = TabulatedConvention::trapezoid;
+    CHECK_THAT(input_error_message([] { HenyeyGreensteinPhase(1.0); }), Contains("invalid g = 1"));
+    CHECK_THAT(input_error_message([] { HenyeyGreensteinPhase(-1.5); }), Contains("invalid g = -1.5"));
+    CHECK_THAT(input_error_message([] { HenyeyGreensteinPhase(std::numeric_limits<double>::quiet_NaN()); }),
+               Contains("invalid g = nan"));
+    CHECK_THAT(input_error_message([] { TP({0.0, 10.0, 5.0, 180.0}, {1.0, 1.0, 1.0, 1.0}); }),
+               Contains("angle_deg[2] = 5") && Contains("strictly increasing"));
+    CHECK_THAT(input_error_message([] { TP({0.0, 10.0, 180.0}, {1.0, -0.5, 1.0}); }), Contains("value[1] = -0.5"));
+    CHECK_THAT(input_error_message([] { TP({10.0}, {1.0}); }), Contains("angle_deg.size() = 1"));
+    CHECK_THAT(input_error_message([] { TP({0.0, 181.0}, {1.0, 1.0}); }), Contains("angle_deg[1] = 181"));
+    CHECK_THAT(input_error_message([] { TP({0.0, 180.0}, {1.0}); }), Contains("value.size() = 1"));
+    CHECK_THAT(input_error_message([&] { TP({1.0, 180.0}, {1.0, 1.0}, tc, 2.5); }),
+               Contains("power_law_exponent = 2.5"));
+    CHECK_THAT(input_error_message([&] { TP({0.0, 180.0}, {1.0, 1.0}, tc); }), Contains("table integral"));
+    CHECK_THAT(input_error_message([] { Cone(IsotropicPhase{}, 0.0); }), Contains("omega = 0"));
+    CHECK_THAT(input_error_message([] { Cone(IsotropicPhase{}, four_pi); }), Contains("invalid omega"));
+}
+
+TEST_CASE("cone average of isotropic and Rayleigh functions") {
+    const ConeAveragedPhase<IsotropicPhase> iso(IsotropicPhase{}, 0.005);
+    CHECK(iso.omega() == 0.005);
+    for (double psi : iso.breakpoints()) CHECK(iso.eval(std::cos(psi)) == Approx(1.0 / four_pi).epsilon(1e-9));
+
+    // Rayleigh: by Funk-Hecke the cap mean of P2(mu) is P2(mu) c (1 + c)/2, c = cos(alpha), so
+    // pbar = 3/(16 pi) (4/3 + (2/3) P2(mu) c (1 + c)/2) exactly; it differs from p by O(alpha^2).
+    const RayleighPhase r;
+    const ConeAveragedPhase<RayleighPhase> cone(r, 0.005);
+    const double c = std::cos(cone.half_angle());
+    const auto exact = [c](double mu) {
+        const double p2 = 0.5 * (3.0 * mu * mu - 1.0);
+        return 3.0 / (16.0 * pi) * (4.0 / 3.0 + 2.0 / 3.0 * p2 * c * (1.0 + c) / 2.0);
+    };
+    // At the tabulation nodes only the cone quadrature errs.
+    for (double psi : cone.breakpoints()) CHECK(cone.eval(std::cos(psi)) == Approx(exact(std::cos(psi))).epsilon(1e-9));
+    // Between nodes linear interpolation in psi errs by at most h^2/8 max|d2p/dpsi2| / min p
+    // = h^2/8 * 2 / 1 = 1.3e-7 for the uniform spacing h = 170 deg / 4095 = 7.2e-4 rad.
+    const double h = (pi - 10.0 * deg) / 4095.0, bound = h * h / 8.0 * 2.0;
+    for (int i = 0; i <= 1000; ++i) {
+        const double mu = std::cos(pi * (i + 0.5) / 1001.0);
+        INFO("mu = " << mu);
+        CHECK(cone.eval(mu) == Approx(exact(mu)).epsilon(bound));
+        CHECK(cone.eval(mu) == Approx(r.eval(mu)).epsilon(1e-3));
+    }
+}
+
+TEST_CASE("cone average of the Petzold function") {
+    const double omega = 0.005;
+    const TabulatedPhase p = petzold_m93();
+    const ConeAveragedPhase<TabulatedPhase> cone(p, omega);
+    const double alpha = cone.half_angle();
+    CHECK(two_pi * (1.0 - std::cos(alpha)) == Approx(omega).epsilon(1e-12));
+
+    // Averaging preserves normalisation.
+    const double norm =
+        integrate_solid_angle([&](double psi) { return cone.eval(std::cos(psi)); }, 0.0, pi, cone.breakpoints());
+    CHECK(norm == Approx(1.0).epsilon(1e-4));
+    // On the axis the cone holds the mass within alpha: pbar(0) = P(psi < alpha) / omega.
+    CHECK(std::isfinite(cone.eval(1.0)));
+    CHECK(cone.eval(1.0) < p.eval(std::cos(0.1 * deg)));
+    CHECK(cone.eval(1.0) == Approx(p.cumulative(alpha) / omega).epsilon(1e-6));
+
+    // Away from the peak, against a brute-force 2-D Gauss-Legendre over the cone
+    // (polar angle 0..alpha, azimuth 0..2 pi about the cone axis).
+    for (double psi_deg : {5.0, 30.0, 120.0}) {
+        const double psi = psi_deg * deg;
+        const auto at = [&](double th, double ph) {
+            return p.eval(std::cos(psi) * std::cos(th) + std::sin(psi) * std::sin(th) * std::cos(ph)) * std::sin(th);
+        };
+        double sum = 0.0;
+        for (int i = 0; i < 40; ++i) {
+            const auto ring = [&](double th) {
+                double s = 0.0;
+                for (int j = 0; j < 80; ++j)
+                    s += detail::gauss_legendre([&](double ph) { return at(th, ph); }, pi * j / 80, pi * (j + 1) / 80);
+                return 2.0 * s;
+            };
+            sum += detail::gauss_legendre(ring, alpha * i / 40, alpha * (i + 1) / 40);
+        }
+        INFO("psi = " << psi_deg << " deg");
+        CHECK(cone.eval(std::cos(psi)) == Approx(sum / omega).epsilon(1e-4));
+    }
+
+    // Near the peak, by Monte Carlo: pbar(psi) omega is the probability that a photon
+    // scattered by p lands inside a cone whose axis is at psi from its direction (4 SE).
+    for (double psi_deg : {1.0, 2.2}) {
+        const double psi = psi_deg * deg;
+        PhotonRng rng(77, static_cast<std::uint64_t>(psi_deg * 10));
+        const int n = 1000000;
+        int inside = 0;
+        for (int i = 0; i < n; ++i) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const PhaseSample s = p.sample(u1, u2);
+            const double sin_s = std::sqrt(std::max(0.0, 1.0 - s.cos_psi * s.cos_psi));
+            inside += std::cos(psi) * s.cos_psi + std::sin(psi) * sin_s * std::cos(s.phi) >= std::cos(alpha);
+        }
+        const double frac = double(inside) / n, se = std::sqrt(frac * (1.0 - frac) / n);
+        INFO("psi = " << psi_deg << " deg: MC " << frac << " +- " << se);
+        CHECK(std::abs(cone.eval(std::cos(psi)) * omega - frac) < 4.0 * se);
+    }
+}
