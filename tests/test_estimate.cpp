@@ -1,6 +1,7 @@
 // Second pass: the map's radiance estimate against the exact single-scattering answer, and
 // the collection volumes / stores against each other on identical maps.
 #include <catch2/catch.hpp>
+#include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/solver/plane_parallel.hpp"
@@ -81,5 +82,28 @@ TEST_CASE("k-d tree spheres, nanoflann spheres and brute force agree on identica
     for (std::size_t i = 0; i < c.depths.size(); ++i) {
         CHECK(c.depths[i].lu.value == Approx(d.depths[i].lu.value).epsilon(1e-9));
         CHECK(c.depths[i].photons_touched == d.depths[i].photons_touched);
+    }
+}
+
+TEST_CASE("k-d tree spheres and the VOI cylinder give the same Lu within their combined SE on identical maps") {
+    // Multiple scattering with a peaked phase function; the same seed gives the same map.
+    PlaneParallelConfig cfg;
+    cfg.albedo = 0.9;
+    cfg.transport.photons = cfg.transport.map_photons = 400000;
+    cfg.transport.depths = {1.0, 3.0};
+    cfg.transport.threads = 2;
+    cfg.steps = 64;
+    const HenyeyGreensteinPhase hg(0.9);
+    cfg.store = StoreKind::kdtree;
+    const auto kd = solve_plane_parallel(hg, cfg);
+    cfg.store = StoreKind::voi;
+    const auto voi = solve_plane_parallel(hg, cfg);
+    REQUIRE(kd.photons_stored == voi.photons_stored);
+    for (std::size_t i = 0; i < kd.depths.size(); ++i) {
+        const auto& a = kd.depths[i].lu;
+        const auto& b = voi.depths[i].lu;
+        INFO("z " << kd.depths[i].depth << ": kd " << a.value << " +- " << a.se << ", voi " << b.value << " +- " << b.se);
+        CHECK(a.se < 0.05 * a.value);
+        CHECK(std::abs(a.value - b.value) <= std::hypot(a.se, b.se));
     }
 }

@@ -13,7 +13,7 @@
 //  - along(ray, r): radius searches centred at steps of length h = 2r along the segment,
 //    radius r sqrt(2): a record in the cylinder projects within r of some centre along the ray
 //    and lies within r of the ray, so within r sqrt(2) of that centre. (Exactly: r is replaced
-//    by the rounding-safe pad, r plus a margin, see kdtree.hpp's detail::pruning_pad.)
+//    by the rounding-safe pad, r plus a margin, see search_support.hpp's detail::pruning_pad.)
 //    Candidates are filtered with in_cylinder, and a hit is reported only by the step whose
 //    centre is closest to its t (round(t / h)), so each record is reported exactly once.
 //    Steps cover only the part of the segment inside the records' bounding box padded by r,
@@ -25,7 +25,7 @@
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once (nanoflann's findNeighbors is const and keeps its
 // state on the caller's stack).
-#include "secchi/map/kdtree.hpp"
+#include "secchi/map/search_support.hpp"
 #include <array>
 #include <cmath>
 #include <cstdint>

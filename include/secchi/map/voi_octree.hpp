@@ -17,7 +17,7 @@
 // rounded outward so it still contains every double position.
 //
 // Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
-// radius (plus a rounding margin, kdtree.hpp's detail::pruning_pad), applied at query time,
+// radius (plus a rounding margin, search_support.hpp's detail::pruning_pad), applied at query time,
 // so one tree serves any radius.
 //
 // Queries: iterative depth-first traversal with a fixed-size stack (no recursion, no
@@ -29,7 +29,7 @@
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
-#include "secchi/map/kdtree.hpp"
+#include "secchi/map/search_support.hpp"
 #include <array>
 #include <cmath>
 #include <cstdint>

@@ -1,0 +1,177 @@
+#pragma once
+// Search helpers shared by the photon stores (kdtree.hpp, nanoflann_store.hpp,
+// voi_octree.hpp): bounding boxes, the traversal stack, the rounding-safe pruning bounds, the
+// padded-segment slab test and the k-best list.
+#include "secchi/core/error.hpp"
+#include "secchi/map/store.hpp"
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace secchi {
+namespace detail {
+
+inline constexpr double infinity = std::numeric_limits<double>::infinity();
+
+/// Axis-aligned box in double precision (an aggregate, so traversal stacks stay trivial).
+struct Box {
+    vec3 lo, hi;
+};
+
+/// The empty box (grows to the first point).
+inline Box empty_box() { return {vec3(infinity), vec3(-infinity)}; }
+
+/// Bounding box of the records' positions.
+template <PhotonRecord Record>
+Box bounding_box(const std::vector<Record>& records) {
+    Box box = empty_box();
+    for (const Record& rec : records) {
+        box.lo = glm::min(box.lo, rec.position());
+        box.hi = glm::max(box.hi, rec.position());
+    }
+    return box;
+}
+
+/// Photon counts are limited by the 32-bit Hit::index.
+inline void require_indexable(std::size_t count) {
+    require(count <= std::numeric_limits<std::uint32_t>::max(), "photon count", count,
+            "exceeds 2^32 - 1 (Hit::index is 32-bit)");
+}
+
+/// A stack of at most N entries in automatic storage: the traversal stack of the queries
+/// (no recursion, no allocation). Each use proves its depth bound next to its capacity.
+template <class T, std::size_t N>
+class FixedStack {
+public:
+    void push(const T& item) {
+        assert(size_ < N);
+        items_[size_++] = item;
+    }
+    T pop() { return items_[--size_]; }
+    [[nodiscard]] bool empty() const { return size_ == 0; }
+
+private:
+    std::array<T, N> items_;
+    std::size_t size_ = 0;
+};
+
+// Rounding-safe pruning. A store must report exactly the records the brute-force oracle
+// accepts, so a subtree is pruned only when rounding cannot make the oracle's exact test
+// accept one of its records.
+
+/// Squared radius for sphere pruning: r^2 (1 + 1e-9). Squared distances to a box or plane
+/// are rounded by a few ulps (1e-16 relative) and never exceed the rounded squared distance
+/// to a record inside, so no record with dot(d, d) <= r^2 is pruned.
+inline double pruning_radius2(double r2) { return r2 * (1.0 + 1e-9); }
+
+/// Radius by which to pad boxes for along() pruning. in_cylinder computes
+/// dist^2 = |d|^2 - t^2: cancellation loses up to ~10 ulp of |d|^2, where |d| <= t_max + r for
+/// an accepted record, and a direction off unit length by delta shifts dist^2 by up to
+/// 2 delta t^2 and t by delta t. The pad covers both with a wide margin (1e-13 |d|^2 and
+/// 1e-9 |d|), plus the rounding of the slab test itself.
+inline double pruning_pad(const Ray& ray, double r2) {
+    const double len = ray.t_max + std::sqrt(r2);
+    const double off_unit = std::abs(glm::dot(ray.direction, ray.direction) - 1.0);
+    const double slack2 = (1e-13 + 4.0 * off_unit) * len * len;
+    return std::sqrt(r2 + slack2) + (1e-9 + 2.0 * off_unit) * len;
+}
+
+/// A query segment origin + t direction, t in [0, t_max], prepared once per along() query
+/// for slab tests (Kay & Kajiya 1986) against boxes padded by pruning_pad(ray, r^2): the
+/// manual's "volume of influence" (3.5), with the padding applied at query time.
+class PaddedSegment {
+public:
+    PaddedSegment(const Ray& ray, double r2) : origin_(ray.origin), t_max_(ray.t_max), pad_(pruning_pad(ray, r2)) {
+        for (int a = 0; a < 3; ++a) {
+            // A direction component below 1e-300 moves the segment by < 1e-300 t_max along
+            // that axis, far inside the pad's margin: treat it as parallel (no overflow).
+            parallel_[a] = std::abs(ray.direction[a]) < 1e-300;
+            inv_dir_[a] = parallel_[a] ? 0.0 : 1.0 / ray.direction[a];
+        }
+    }
+
+    [[nodiscard]] double pad() const { return pad_; }
+
+    /// Parameter interval [t0, t1] of the segment inside the box [lo - pad, hi + pad];
+    /// empty (t0 > t1) if the segment misses it.
+    [[nodiscard]] std::pair<double, double> clip(const vec3& lo, const vec3& hi) const {
+        double t0 = 0.0, t1 = t_max_;
+        for (int a = 0; a < 3; ++a) {
+            const double low = lo[a] - pad_, high = hi[a] + pad_;
+            if (parallel_[a]) {
+                if (origin_[a] < low || origin_[a] > high) return {1.0, 0.0};
+                continue;
+            }
+            double ta = (low - origin_[a]) * inv_dir_[a], tb = (high - origin_[a]) * inv_dir_[a];
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta);
+            t1 = std::min(t1, tb);
+            if (t0 > t1) return {t0, t1};
+        }
+        return {t0, t1};
+    }
+
+    /// Does the segment meet the box [lo - pad, hi + pad]?
+    [[nodiscard]] bool meets(const vec3& lo, const vec3& hi) const {
+        const auto [t0, t1] = clip(lo, hi);
+        return t0 <= t1;
+    }
+
+private:
+    vec3 origin_;
+    double t_max_;
+    double pad_;
+    vec3 inv_dir_{};
+    std::array<bool, 3> parallel_{};
+};
+
+/// The k best hits by (distance2, index), kept as a bounded max-heap in the caller's vector
+/// (ties broken by the smaller index, so the result is deterministic).
+class KBest {
+public:
+    KBest(std::size_t k, std::size_t available, std::vector<Hit>& out) : k_(k), out_(out) {
+        out_.clear();
+        out_.reserve(std::min(k, available));
+    }
+
+    static bool before(const Hit& a, const Hit& b) {
+        return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
+    }
+
+    /// Squared distance of the current k-th hit; infinity until k hits are held (-infinity
+    /// for k = 0: nothing can enter).
+    [[nodiscard]] double worst2() const {
+        if (k_ == 0) return -infinity;
+        return out_.size() < k_ ? infinity : out_.front().distance2;
+    }
+
+    /// Could a record at squared distance >= bound2 still enter? (rounding-safe, ties enter)
+    [[nodiscard]] bool may_accept(double bound2) const { return bound2 <= pruning_radius2(worst2()); }
+
+    void offer(const Hit& hit) {
+        if (out_.size() < k_) {
+            out_.push_back(hit);
+            std::push_heap(out_.begin(), out_.end(), before);
+        } else if (k_ > 0 && before(hit, out_.front())) {
+            std::pop_heap(out_.begin(), out_.end(), before);
+            out_.back() = hit;
+            std::push_heap(out_.begin(), out_.end(), before);
+        }
+    }
+
+    /// Sorts the hits by (distance2, index).
+    void finish() { std::sort_heap(out_.begin(), out_.end(), before); }
+
+private:
+    std::size_t k_;
+    std::vector<Hit>& out_;
+};
+
+}  // namespace detail
+
+}  // namespace secchi
