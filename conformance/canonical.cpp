@@ -169,11 +169,10 @@ std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool
 }  // namespace
 
 int main(int argc, char** argv) {
-    for (int i = 1; i < argc; ++i)
-        if (std::string(argv[i]) == "--help") {
-            std::cout << usage;
-            return 0;
-        }
+    if (CommandLine::wants_help(argc, argv)) {
+        std::cout << usage;
+        return 0;
+    }
     try {
         const CommandLine cl(argc, argv, {"problem", "photons", "store", "seed", "threads", "json", "exr"}, {"quick"});
         const std::string which = cl.required_text("problem");

@@ -95,11 +95,10 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    for (int i = 1; i < argc; ++i)
-        if (std::string(argv[i]) == "--help") {
-            std::cout << usage;
-            return 0;
-        }
+    if (secchi::CommandLine::wants_help(argc, argv)) {
+        std::cout << usage;
+        return 0;
+    }
     try {
         const secchi::CommandLine cl(argc, argv,
                                      {"phase", "albedo", "sun-zenith", "water-index", "bottom-depth", "bottom-albedo",

@@ -30,6 +30,12 @@ public:
             values_[name] = argv[++i];
         }
     }
+    /// True if --help is among the arguments (checked before parsing, so it always works).
+    static bool wants_help(int argc, char** argv) {
+        for (int i = 1; i < argc; ++i)
+            if (std::string(argv[i]) == "--help") return true;
+        return false;
+    }
     [[nodiscard]] bool has(const std::string& name) const { return values_.count(name) != 0; }
     [[nodiscard]] std::string text(const std::string& name, const std::string& fallback = "") const {
         auto it = values_.find(name);
