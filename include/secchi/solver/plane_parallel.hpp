@@ -90,11 +90,12 @@ void estimate_lu(const Store& store, const Volume& volume, const Cone& cone, con
                                     Radius(cfg.radius));
     for (auto& d : out.depths) {
         const double length = std::min(cfg.ray_length, slab.floor_depth() - d.depth);
-        if (length <= 0.0) continue;
-        const auto r = est.estimate(nadir_ray_grid(d.depth, length, cfg.ray_grid, cfg.section_width),
-                                    cfg.transport.threads);
-        d.lu = r.radiance;
-        d.photons_touched = r.photons_touched;
+        if (length > 0.0) {
+            const auto r = est.estimate(nadir_ray_grid(d.depth, length, cfg.ray_grid, cfg.section_width),
+                                        cfg.transport.threads);
+            d.lu = r.radiance;
+            d.photons_touched = r.photons_touched;
+        }
         if (cfg.bottom.kind == BottomKind::lambertian && d.depth + length >= cfg.bottom.depth) {
             // Light reflected by the Lambertian bottom: L = A Ed(bottom) / pi, attenuated to z.
             const double att = std::exp(-cfg.attenuation * (cfg.bottom.depth - d.depth)) * cfg.bottom.albedo / pi;

@@ -26,6 +26,9 @@ public:
             double lo = std::max(0.0, z - 0.5 * thickness_);
             if (std::isfinite(floor_depth)) lo = std::min(lo, floor_depth - thickness_);
             layers_.push_back({lo, lo + thickness_});
+            // A plane on the bottom itself counts the flux arriving at and leaving the bottom:
+            // it sits a rounding margin above it, so flights ending or starting there cross it.
+            planes_.push_back(std::isfinite(floor_depth) ? std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12) : z);
         }
     }
     [[nodiscard]] std::size_t size() const { return depths_.size(); }
@@ -37,7 +40,7 @@ public:
     /// w exp(-a t) along the flight (a = 0 unless absorption is applied continuously).
     void record(double z0, double z1, double uz, double s, double w, double a, IrradianceTally* tally) const {
         for (std::size_t i = 0; i < depths_.size(); ++i) {
-            const double d = depths_[i];
+            const double d = planes_[i];
             // Half-open crossing rule: a flight starting on the plane going down counts as Ed,
             // one ending on it going up counts as Eu (so the surface plane z = 0 works).
             if (uz > 0.0 && z0 <= d && d < z1) tally[i][Ed] += w * std::exp(-a * (d - z0) / uz);
@@ -61,7 +64,7 @@ private:
         return (std::exp(-a * ta) - std::exp(-a * tb)) / a;
     }
 
-    std::vector<double> depths_;
+    std::vector<double> depths_, planes_;
     double thickness_;
     std::vector<std::pair<double, double>> layers_;
 };

@@ -102,7 +102,9 @@ private:
         const bool stores = index < s_.map_photons;
         const auto map_batch = static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0);
         // Free paths (manual eq. 3.17) use c, or b alone when absorption is continuous.
-        const double c = continuous_ ? medium_.scattering() : medium_.attenuation(), floor = slab_.floor_depth();
+        const double c = continuous_ ? medium_.scattering() : medium_.attenuation();
+        const double floor_depth = slab_.floor_depth();
+        const bool has_bottom = slab_.bottom().kind != BottomKind::none;
         while (true) {
             const double s = c > 0.0 ? -std::log(rng.uniform()) / c : INFINITY;
             const double z1 = p.pos.z + p.dir.z * s;
@@ -112,10 +114,10 @@ private:
                 if (!leave_or_reflect_at_surface(p, rng, out.ledger)) return;
                 continue;
             }
-            if (z1 >= floor) {                            // reaches the bottom / escape depth
-                const double t = (floor - p.pos.z) / p.dir.z;
+            if (z1 >= floor_depth) {                      // reaches the bottom / escape depth
+                const double t = (floor_depth - p.pos.z) / p.dir.z;
                 fly(p, t, out);
-                out.bottom_ed += p.w;
+                if (has_bottom) out.bottom_ed += p.w;
                 if (!reflect_at_bottom(p, rng, out.ledger)) return;
                 continue;
             }
