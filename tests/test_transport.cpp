@@ -140,3 +140,17 @@ TEST_CASE("Invalid transport settings are rejected by name") {
     s.map_photons = 11;
     REQUIRE_THROWS_WITH(s.validate(), Catch::Contains("map photons"));
 }
+
+TEST_CASE("A detector on a Lambertian bottom sees Eu = A Ed (exact with weighted photons)") {
+    TransportSettings s;
+    s.photons = 20000;
+    s.depths = {1.0, 3.0};
+    s.absorption = AbsorptionMode::continuous;
+    s.roulette_weight = 0.0;  // roulette after a reflection would change weights at random
+    const double albedo = 0.5;
+    const auto r = run(HenyeyGreensteinPhase(0.9), 0.5, s, Bottom::lambertian_at(3.0, albedo));
+    const auto& bottom = r.irradiance[1];
+    CHECK(bottom[Ed].value > 0.0);
+    CHECK(bottom[Eu].value == Approx(albedo * bottom[Ed].value).epsilon(1e-10));
+    CHECK(r.bottom_ed.value == Approx(bottom[Ed].value).epsilon(1e-10));
+}
