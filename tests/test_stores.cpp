@@ -368,7 +368,7 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     const KdTreeStore<CompactRecord> kd(records);
     const NanoflannStore<CompactRecord> nano(records);
     const VoiOctreeStore<CompactRecord> octree(records);
-    INFO("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
+    WARN("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
                                        << ", VOI octree " << per_photon(octree.memory_bytes()) << " ("
                                        << octree.node_count() << " nodes)");
     REQUIRE(kd.memory_bytes() <= static_cast<std::size_t>(16.2 * static_cast<double>(n)) + 1024);
