@@ -1,0 +1,133 @@
+// secchi_bench: headline performance figures (a benchmark, never part of the tests).
+//   secchi_bench [--quick] [--json FILE]
+// Each figure is the median of repeated timed runs. Propagation: scattering events per second
+// per core (analog transport, w0 = 0.9, every scattering stored), for the Henyey-Greenstein
+// (g = 0.9) and Petzold samplers; photons per second for problem 2a. Collection: rays per
+// second through a problem-2a map, k-d tree spheres at n = 32 against the VOI cylinder at the
+// same radius. Thread speed-ups: 2 threads against 1 on the same work.
+#include "secchi/io/cli.hpp"
+#include "secchi/io/json_writer.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/petzold.hpp"
+#include "secchi/solver/plane_parallel.hpp"
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+
+namespace {
+
+using namespace secchi;
+
+double median_seconds(int repeats, const std::function<void()>& work) {
+    std::vector<double> t;
+    for (int i = 0; i < repeats; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        work();
+        t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+template <class Phase>
+TransportResult<CompactRecord> trace(const Phase& phase, double w0, double zenith, double n_water,
+                                     std::uint64_t photons, unsigned threads, AbsorptionMode mode) {
+    const auto water = HomogeneousWater<Phase>::from_albedo(1.0, w0, phase);
+    TransportSettings s;
+    s.photons = s.map_photons = photons;
+    s.threads = threads;
+    s.absorption = mode;
+    s.depths = {1.0, 5.0, 10.0};
+    const Slab slab(1.0, Bottom{}, 42.0);
+    return PhotonTracer<HomogeneousWater<Phase>, CompactRecord>(water, slab, FlatSurface(n_water),
+                                                                CollimatedSun(zenith), s)
+        .run();
+}
+
+/// Scattering events per second on one core: analog transport, all events stored.
+template <class Phase>
+double events_per_second(const Phase& phase, std::uint64_t photons, int repeats) {
+    std::size_t events = 0;
+    const double t = median_seconds(repeats, [&] {
+        events = trace(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records.size();
+    });
+    return static_cast<double>(events) / t;
+}
+
+struct CollectionFigures {
+    double rays_per_s;
+    double photons_per_ray;
+    Estimate lu;
+};
+
+template <class Store, class Volume, class Cone>
+CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, double flux, unsigned batches,
+                          const std::vector<Ray>& rays, unsigned threads, int repeats) {
+    const PathRadianceEstimator est(store, volume, cone, 1.0, flux, batches, Radius(0.05));
+    RadianceEstimate r;
+    const double t = median_seconds(repeats, [&] { r = est.estimate(rays, threads); });
+    return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (CommandLine::wants_help(argc, argv)) {
+        std::cout << "usage: secchi_bench [--quick] [--json FILE]\n";
+        return 0;
+    }
+    try {
+        const CommandLine cl(argc, argv, {"json"}, {"quick"});
+        const bool quick = cl.has("quick");
+        const int repeats = quick ? 3 : 5;
+        const std::uint64_t scale = quick ? 1 : 4;
+        std::map<std::string, double> fig;
+
+        const HenyeyGreensteinPhase hg(0.9);
+        const TabulatedPhase petzold = petzold_m93();
+        fig["events_per_s_per_core_hg"] = events_per_second(hg, 100'000 * scale, repeats);
+        fig["events_per_s_per_core_petzold"] = events_per_second(petzold, 100'000 * scale, repeats);
+
+        const std::uint64_t n2a = 200'000 * scale;
+        double t1 = median_seconds(repeats, [&] { trace(petzold, 0.9, 60, 1.34, n2a, 1, AbsorptionMode::continuous); });
+        double t2 = median_seconds(repeats, [&] { trace(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous); });
+        fig["photons_per_s_problem_2a"] = static_cast<double>(n2a) / t1;
+        fig["thread_speedup_propagation"] = t1 / t2;
+
+        // Collection through a problem-2a map: vertical rays of length 8 from tau 1.
+        const auto map = trace(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous);
+        fig["bytes_per_photon_compact"] =
+            static_cast<double>(KdTreeStore<CompactRecord>(map.records).memory_bytes()) / map.records.size();
+        const KdTreeStore<CompactRecord> kd(map.records);
+        const VoiOctreeStore<CompactRecord> voi(map.records);
+        const ConeAveragedPhase cone(petzold, 0.005);
+        const auto rays = nadir_ray_grid(1.0, 8.0, quick ? 6 : 10, 1.0);
+        const auto k1 = collect(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
+        const auto v1 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
+        const auto v2 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 2, repeats);
+        fig["kd_rays_per_s"] = k1.rays_per_s;
+        fig["voi_rays_per_s"] = v1.rays_per_s;
+        fig["voi_speedup_vs_kd32"] = v1.rays_per_s / k1.rays_per_s;
+        fig["thread_speedup_collection"] = v2.rays_per_s / v1.rays_per_s;
+
+        std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", map.records.size());
+        std::printf("  k-d n=32: %.3g photons/ray, Lu %.4e +- %.1e\n", k1.photons_per_ray, k1.lu.value, k1.lu.se);
+        std::printf("  VOI     : %.3g photons/ray, Lu %.4e +- %.1e\n", v1.photons_per_ray, v1.lu.value, v1.lu.se);
+        for (const auto& [k, v] : fig) std::printf("%-32s %.4g\n", k.c_str(), v);
+        if (cl.has("json")) {
+            std::ofstream os(cl.text("json"));
+            JsonWriter j(os);
+            j.begin_object();
+            for (const auto& [k, v] : fig) j.value(k.c_str(), v);
+            j.end_object();
+        }
+        return 0;
+    } catch (const input_error& e) {
+        std::cerr << "secchi_bench: " << e.what() << "\n";
+        return 2;
+    }
+}
