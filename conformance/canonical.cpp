@@ -32,6 +32,9 @@ Runs Mobley et al. 1993 problems 1 and 2 (sun at 60 deg, flat surface n = 1.34, 
 infinitely deep water, c = 1 /m) and scores them against M93 Table 5. Without --photons each
 problem uses its default budget (see the table printed at the start). --exr (default
 photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
+--petzold petzold|petzold-linear|petzold-linear-flat chooses the particle phase function of
+problems 2a and 2b (default petzold: M93 Table 2, trapezoidal convention, power law below
+0.12589 deg, the canonical definition; the others are for investigation).
 )";
 
 /// A problem and the default photon budget that meets the scoring bar.
@@ -144,11 +147,12 @@ Estimate quantity_of(const DepthResult& d, std::string_view q) {
 
 std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool quick, const std::string& exr) {
     const auto cfg = config_for(p, cl, quick);
+    const std::string phase = p.phase == "petzold" ? cl.text("petzold", "petzold") : p.phase;
     std::printf("-- problem %s: %s, w0 = %.1f, %llu photons (%llu in the map), store %s\n", p.id.c_str(),
-                p.phase.c_str(), p.albedo, static_cast<unsigned long long>(cfg.transport.photons),
+                phase.c_str(), p.albedo, static_cast<unsigned long long>(cfg.transport.photons),
                 static_cast<unsigned long long>(cfg.transport.map_photons), to_string(cfg.store).c_str());
     std::fflush(stdout);
-    const auto r = std::visit([&](const auto& ph) { return solve_plane_parallel(ph, cfg); }, parse_phase(p.phase));
+    const auto r = std::visit([&](const auto& ph) { return solve_plane_parallel(ph, cfg); }, parse_phase(phase));
     std::printf("   %.1f s (transport %.1f, map build %.1f, collection %.1f); %llu stored; energy imbalance %.1e\n",
                 r.seconds, r.seconds_transport, r.seconds_build, r.seconds_collect,
                 static_cast<unsigned long long>(r.photons_stored), r.ledger.imbalance());
@@ -174,7 +178,8 @@ int main(int argc, char** argv) {
         return 0;
     }
     try {
-        const CommandLine cl(argc, argv, {"problem", "photons", "store", "seed", "threads", "json", "exr"}, {"quick"});
+        const CommandLine cl(argc, argv, {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold"},
+                             {"quick"});
         const std::string which = cl.required_text("problem");
         if (which != "all" && std::none_of(problems.begin(), problems.end(), [&](auto& p) { return p.id == which; }))
             reject("--problem", which, "must be 1a, 1b, 2a, 2b or all");

@@ -375,3 +375,16 @@ TEST_CASE("cone average of the Petzold function") {
         CHECK(std::abs(cone.eval(std::cos(psi)) * omega - frac) < 4.0 * se);
     }
 }
+
+TEST_CASE("Petzold variant flat below 0.1 deg: normalised, more backscatter than the canonical function") {
+    const auto flat = secchi::petzold_m93_flat_forward();
+    const auto canonical = secchi::petzold_m93();
+    const auto mf = secchi::phase_moments(flat);
+    const auto mc = secchi::phase_moments(canonical);
+    CHECK(mf.normalisation == Approx(1.0).margin(1e-6));
+    // Its tail below 0.1 deg holds less scattering than the power law's, so after
+    // normalisation more of it lies at large angles.
+    CHECK(mf.backscatter_fraction > mc.backscatter_fraction);
+    // constant below 0.1 deg (a power law would differ by a factor 2.5 here); 1e-6: acos near 0
+    CHECK(flat.eval(std::cos(0.05 * secchi::deg)) == Approx(flat.eval(std::cos(0.1 * secchi::deg))).epsilon(1e-6));
+}

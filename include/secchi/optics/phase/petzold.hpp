@@ -54,4 +54,19 @@ inline TabulatedPhase petzold_m93(TabulatedConvention c = TabulatedConvention::t
     return TabulatedPhase(angle, value, c, petzold_m93_exponent, name);
 }
 
+/// A variant for investigating the M93 model average (not the canonical definition): all of
+/// Table 2 from 0.1 deg, p linear in angle, and p held constant below 0.1 deg instead of the
+/// power law. Its tail below 0.1 deg carries 1.7 % of the scattering instead of the power
+/// law's 6 % below 0.126 deg, so b_b/b is 0.01841. With it, problems 2a and 2b reproduce the
+/// M93 irradiances within their spread where the canonical function does not (see the issue
+/// notes): a hint at how the models treated the forward peak.
+inline TabulatedPhase petzold_m93_flat_forward() {
+    std::vector<double> angle, value;
+    for (const auto& node : petzold_m93_table) {
+        angle.push_back(node.angle_deg);
+        value.push_back(node.value);
+    }
+    return TabulatedPhase(angle, value, TabulatedConvention::linear_p, std::nullopt, "petzold_m93(linear_p, flat below 0.1 deg)");
+}
+
 }  // namespace secchi
