@@ -31,28 +31,4 @@ inline constexpr std::array<ReferenceValue, 36> m93_table5{{
     {"2b", 10, "Ed", 1.30e-5, 0.047}, {"2b", 10, "Eou", 7.28e-8, 0.187}, {"2b", 10, "Lu", 4.02e-9, 0.248},
 }};
 
-/// The manual's photon-mapping results (DIRSIG, Tables 7.1 and 7.2, single maps of up to
-/// 10 million photons), for comparison in reports. NaN-free: every entry has a value.
-struct DirsigValue {
-    std::string_view problem;
-    double depth;
-    std::string_view quantity;
-    double value;
-};
-
-inline constexpr std::array<DirsigValue, 36> dirsig_tables_7_1_7_2{{
-    {"1a", 1, "Ed", 3.66e-1},  {"1a", 1, "Eou", 3.74e-1},  {"1a", 1, "Lu", 4.88e-2},
-    {"1a", 5, "Ed", 4.34e-2},  {"1a", 5, "Eou", 4.30e-2},  {"1a", 5, "Lu", 5.77e-3},
-    {"1a", 10, "Ed", 3.14e-3}, {"1a", 10, "Eou", 3.11e-3}, {"1a", 10, "Lu", 4.21e-4},
-    {"1b", 1, "Ed", 1.42e-1},  {"1b", 1, "Eou", 1.33e-2},  {"1b", 1, "Lu", 1.70e-3},
-    {"1b", 5, "Ed", 1.06e-3},  {"1b", 5, "Eou", 9.52e-5},  {"1b", 5, "Lu", 1.29e-5},
-    {"1b", 10, "Ed", 2.81e-6}, {"1b", 10, "Eou", 1.95e-7}, {"1b", 10, "Lu", 2.81e-8},
-    {"2a", 1, "Ed", 4.13e-1},  {"2a", 1, "Eou", 9.19e-2},  {"2a", 1, "Lu", 7.40e-3},
-    {"2a", 5, "Ed", 1.86e-1},  {"2a", 5, "Eou", 4.57e-2},  {"2a", 5, "Lu", 3.05e-3},
-    {"2a", 10, "Ed", 6.93e-2}, {"2a", 10, "Eou", 1.66e-2}, {"2a", 10, "Lu", 8.85e-4},
-    {"2b", 1, "Ed", 1.62e-1},  {"2b", 1, "Eou", 9.63e-4},  {"2b", 1, "Lu", 5.33e-5},
-    {"2b", 5, "Ed", 2.28e-3},  {"2b", 5, "Eou", 1.17e-5},  {"2b", 5, "Lu", 7.39e-7},
-    {"2b", 10, "Ed", 1.29e-5}, {"2b", 10, "Eou", 6.19e-8}, {"2b", 10, "Lu", 3.92e-9},
-}};
-
 }  // namespace secchi::conformance
