@@ -22,8 +22,8 @@ int main() {
 
     const VoiOctreeStore<CompactRecord> map(first.records);         // second pass (manual 3.5)
     const ConeAveragedPhase cone(water.phase(), /*omega=*/0.005);
-    const PathRadianceEstimator lu(map, VoiCylinder{}, cone, water.attenuation(), first.flux_per_map_photon,
-                                   first.batches, Radius(0.05));
+    const HomogeneousRayOptics optics{cone, water.attenuation()};    // pbar_omega(psi) exp(-c t), eq. 3.18
+    const PathRadianceEstimator lu(map, VoiCylinder{}, optics, first.flux_per_map_photon, first.batches, Radius(0.05));
     const auto in_water = lu.estimate(nadir_ray_grid(/*z=*/5.0, /*length=*/5.0, /*k=*/10, slab.width()), 2);
     // plus the bottom's reflected radiance A Ed(bottom) / pi, attenuated over the 5 m to the bottom
     const double from_bottom = 0.3 * first.bottom_ed.value / pi * std::exp(-water.attenuation() * 5.0);

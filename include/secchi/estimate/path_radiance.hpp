@@ -6,10 +6,13 @@
 // collection volume's length/volume weight, and t the photon's distance along the ray from
 // the ray's start (the attenuation to the ray's end point, where the radiance is wanted).
 // Photons are stored at scattering events, so the map density is b E_o: no extra factor b.
+// In stratified water pbar_omega is the mixture at the photon's depth (eq. 5.5) and exp(-c t)
+// becomes exp(-int c dt) along the ray: the RayOptics policy supplies both.
 // Standard error: each photon belongs to one of B batches; each batch alone is an estimate
 // with flux B * Phi per photon.
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
+#include "secchi/optics/medium.hpp"
 #include "secchi/transport/parallel.hpp"
 #include <cstdint>
 #include <span>
@@ -23,12 +26,45 @@ struct RadianceEstimate {
     std::size_t rays = 0;
 };
 
-template <class Store, CollectionVolume Volume, class ConePhase>
+/// The water's part of eq. 3.18 for one photon: in_scatter(z, cos_psi, ray, t) =
+/// pbar_omega(psi) at the photon's depth z times the transmittance from the ray's start over t.
+template <class O>
+concept RayOptics = requires(const O o, double z, double cos_psi, Ray ray, double t) {
+    { o.in_scatter(z, cos_psi, ray, t) } -> std::convertible_to<double>;
+};
+
+/// Homogeneous water: one cone-averaged phase function and exp(-c t).
+template <class ConePhase>
+struct HomogeneousRayOptics {
+    const ConePhase& cone;
+    double attenuation;
+    [[nodiscard]] double in_scatter(double, double cos_psi, const Ray&, double t) const {
+        return cone.eval(cos_psi) * std::exp(-attenuation * t);
+    }
+};
+
+/// Depth-varying water (a StratifiedWater): the components' cone-averaged phase functions
+/// weighted by b_i(z) / b(z) (eq. 5.5-5.6), and exp(-int c) along the ray.
+template <class Water, class ConePhase>
+struct StratifiedRayOptics {
+    const Water& water;
+    const std::vector<ConePhase>& cones;  ///< one per scattering component, in order
+    [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
+        std::array<double, Water::max_components> w{};
+        const double b = water.weights(z, w);
+        double p = 0.0;
+        for (std::size_t i = 0; i < cones.size(); ++i) p += w[i] * cones[i].eval(cos_psi);
+        const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
+        return b > 0.0 ? p / b * std::exp(-tau) : 0.0;
+    }
+};
+
+template <class Store, CollectionVolume Volume, RayOptics Optics>
 class PathRadianceEstimator {
 public:
-    PathRadianceEstimator(const Store& store, Volume volume, const ConePhase& phase, double attenuation,
-                          double flux_per_photon, unsigned batches, Radius radius)
-        : store_(store), volume_(std::move(volume)), phase_(phase), c_(attenuation), flux_(flux_per_photon),
+    PathRadianceEstimator(const Store& store, Volume volume, Optics optics, double flux_per_photon, unsigned batches,
+                          Radius radius)
+        : store_(store), volume_(std::move(volume)), optics_(std::move(optics)), flux_(flux_per_photon),
           batches_(batches), radius_(radius) {}
 
     /// Adds the per-batch photon sums of one ray (light arriving at ray.origin travelling
@@ -39,7 +75,7 @@ public:
         volume_.gather(store_, ray, radius_, [&](std::uint32_t index, double t, double weight) {
             const auto& rec = records[index];
             const double cos_psi = -glm::dot(rec.direction(), ray.direction);
-            batch_sums[rec.batch()] += weight * phase_.eval(cos_psi) * std::exp(-c_ * t);
+            batch_sums[rec.batch()] += weight * optics_.in_scatter(rec.position().z, cos_psi, ray, t);
             ++touched;
         });
         return touched;
@@ -68,8 +104,8 @@ public:
 private:
     const Store& store_;
     Volume volume_;
-    const ConePhase& phase_;
-    double c_, flux_;
+    Optics optics_;
+    double flux_;
     unsigned batches_;
     Radius radius_;
 };

@@ -3,18 +3,27 @@
 // the configuration becomes a compile-time type (std::visit instantiates the whole
 // simulation per phase type, so no virtual call reaches the photon loop).
 //   isotropic | rayleigh | petzold | petzold-linear | petzold-linear-flat | hg:G
+//   | schlick:K | pure-water | ff:BB (Fournier-Forand with b_b/b = BB, n = 1.10)
+// AnyPhase, the variant of every phase type, is defined in optics/phase/any_phase.hpp.
 #include "secchi/core/error.hpp"
-#include "secchi/optics/phase/henyey_greenstein.hpp"
-#include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/optics/phase/any_phase.hpp"
 #include "secchi/optics/phase/petzold.hpp"
-#include "secchi/optics/phase/rayleigh.hpp"
 #include <charconv>
 #include <string>
 #include <variant>
 
 namespace secchi {
 
-using AnyPhase = std::variant<IsotropicPhase, RayleighPhase, HenyeyGreensteinPhase, TabulatedPhase>;
+namespace detail {
+/// The number after "prefix:" in spec, or input_error.
+inline double phase_parameter(const std::string& spec, std::size_t prefix_length, const char* what) {
+    const std::string text = spec.substr(prefix_length);
+    double x = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+    if (ec != std::errc{} || end != text.data() + text.size()) reject(what, spec, "the parameter must be a number");
+    return x;
+}
+}  // namespace detail
 
 inline AnyPhase parse_phase(const std::string& spec) {
     if (spec == "isotropic") return IsotropicPhase{};
@@ -22,14 +31,14 @@ inline AnyPhase parse_phase(const std::string& spec) {
     if (spec == "petzold") return petzold_m93(TabulatedConvention::trapezoid);
     if (spec == "petzold-linear") return petzold_m93(TabulatedConvention::linear_p);
     if (spec == "petzold-linear-flat") return petzold_m93_flat_forward();
-    if (spec.rfind("hg:", 0) == 0) {
-        const std::string g_text = spec.substr(3);
-        double g = 0;
-        const auto [end, ec] = std::from_chars(g_text.data(), g_text.data() + g_text.size(), g);
-        if (ec != std::errc{} || end != g_text.data() + g_text.size()) reject("phase hg:G", spec, "G must be a number");
-        return HenyeyGreensteinPhase(g);
-    }
-    reject("phase", spec, "must be isotropic, rayleigh, petzold, petzold-linear, petzold-linear-flat or hg:G");
+    if (spec == "pure-water") return pure_water_phase();
+    if (spec.rfind("hg:", 0) == 0) return HenyeyGreensteinPhase(detail::phase_parameter(spec, 3, "phase hg:G"));
+    if (spec.rfind("schlick:", 0) == 0) return SchlickPhase(detail::phase_parameter(spec, 8, "phase schlick:K"));
+    if (spec.rfind("ff:", 0) == 0)
+        return FournierForandPhase::from_backscatter_fraction(detail::phase_parameter(spec, 3, "phase ff:BB"));
+    reject("phase", spec,
+           "must be isotropic, rayleigh, petzold, petzold-linear, petzold-linear-flat, pure-water, hg:G, schlick:K "
+           "or ff:BB");
 }
 
 }  // namespace secchi

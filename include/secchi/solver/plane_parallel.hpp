@@ -1,6 +1,7 @@
 #pragma once
 // A plane-parallel problem end to end (the canonical problems' set-up, M93 section 3):
-// homogeneous water of attenuation c and albedo w0 under a collimated sun and a black sky,
+// homogeneous water of attenuation c and albedo w0 (problems 1, 2, 6), or depth-varying water
+// (problem 3, solve_stratified), under a collimated sun and a black sky,
 // flat surface, optional bottom. First pass: photons traced, irradiance detectors tallied,
 // the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
@@ -11,6 +12,7 @@
 #include "secchi/map/nanoflann_store.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include "secchi/optics/medium.hpp"
+#include "secchi/optics/stratified_water.hpp"
 #include "secchi/optics/phase/cone_average.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <chrono>
@@ -83,11 +85,11 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 /// Lu at every depth from a built store with the store's natural collection volume.
-template <class Store, CollectionVolume Volume, class Cone, class Record>
-void estimate_lu(const Store& store, const Volume& volume, const Cone& cone, const PlaneParallelConfig& cfg,
-                 const Slab& slab, const TransportResult<Record>& tr, PlaneParallelResult& out) {
-    const PathRadianceEstimator est(store, volume, cone, cfg.attenuation, tr.flux_per_map_photon, tr.batches,
-                                    Radius(cfg.radius));
+template <class Store, CollectionVolume Volume, Medium M, RayOptics Optics, class Record>
+void estimate_lu(const Store& store, const Volume& volume, const M& medium, const Optics& optics,
+                 const PlaneParallelConfig& cfg, const Slab& slab, const TransportResult<Record>& tr,
+                 PlaneParallelResult& out) {
+    const PathRadianceEstimator est(store, volume, optics, tr.flux_per_map_photon, tr.batches, Radius(cfg.radius));
     for (auto& d : out.depths) {
         const double length = std::min(cfg.ray_length, slab.floor_depth() - d.depth);
         if (length > 0.0) {
@@ -98,7 +100,8 @@ void estimate_lu(const Store& store, const Volume& volume, const Cone& cone, con
         }
         if (cfg.bottom.kind == BottomKind::lambertian && d.depth + length >= cfg.bottom.depth) {
             // Light reflected by the Lambertian bottom: L = A Ed(bottom) / pi, attenuated to z.
-            const double att = std::exp(-cfg.attenuation * (cfg.bottom.depth - d.depth)) * cfg.bottom.albedo / pi;
+            const double tau = medium.optical_path(Coefficient::attenuation, d.depth, 1.0, cfg.bottom.depth - d.depth);
+            const double att = std::exp(-tau) * cfg.bottom.albedo / pi;
             d.lu.value += att * tr.bottom_ed.value;
             d.lu.se = std::hypot(d.lu.se, att * tr.bottom_ed.se);
         }
@@ -106,27 +109,28 @@ void estimate_lu(const Store& store, const Volume& volume, const Cone& cone, con
 }
 }  // namespace detail
 
-template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
-PlaneParallelResult solve_plane_parallel(const Phase& phase, PlaneParallelConfig cfg) {
+/// The plane-parallel problem in any Medium: first pass, map, and Lu with `optics` (the
+/// water's part of eq. 3.18 for the collection solid angle cfg.omega).
+/// cfg.attenuation and cfg.albedo are not used: the medium says everything.
+template <PhotonRecord Record = CompactRecord, Medium M, RayOptics Optics>
+PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optics, PlaneParallelConfig cfg) {
     const auto t0 = std::chrono::steady_clock::now();
     require(cfg.radius > 0 && 2.0 * cfg.radius * cfg.ray_grid <= cfg.section_width, "radius", cfg.radius,
             "must be > 0 and at most section_width / (2 ray_grid) so the ray cylinders stay inside the section");
-    const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
     double deepest = 0.0;
     for (double z : cfg.transport.depths) deepest = std::max(deepest, z);
-    // Infinitely deep water: photons that sink escape_margin below the deepest ray's end stop.
-    // Their return to the detectors is attenuated at least by the diffuse attenuation both
-    // ways, exp(-2 K margin); K is as small as 0.2 c in clear forward-scattering water
-    // (problem 2a), so the default margin of 20 attenuation lengths leaves < 1e-3.
-    const double escape = deepest + cfg.ray_length + cfg.escape_margin / cfg.attenuation;
+    // Infinitely deep water: photons that sink escape_margin attenuation lengths (of the water
+    // at the deepest ray's end) below it stop. Their return to the detectors is attenuated at
+    // least by the diffuse attenuation both ways, exp(-2 K margin); K is as small as 0.2 c in
+    // clear forward-scattering water (problem 2a), so the default margin of 20 leaves < 1e-3.
+    const double ray_end = deepest + cfg.ray_length;
+    const double escape = ray_end + cfg.escape_margin / medium.coefficient(Coefficient::attenuation, ray_end);
     const Slab slab(cfg.section_width, cfg.bottom, escape);
-    const PhotonTracer<HomogeneousWater<Phase>, Record> tracer(medium, slab, FlatSurface(cfg.water_index),
-                                                               CollimatedSun(cfg.sun_zenith_deg), cfg.transport);
+    const PhotonTracer<M, Record> tracer(medium, slab, FlatSurface(cfg.water_index), CollimatedSun(cfg.sun_zenith_deg),
+                                         cfg.transport);
     auto tr = tracer.run();
 
     PlaneParallelResult out;
-    out.phase_name = phase.name();
-    out.moments = phase_moments(phase);
     out.photons_traced = tr.photons;
     out.photons_stored = tr.records.size();
     out.ledger = tr.ledger;
@@ -138,12 +142,11 @@ PlaneParallelResult solve_plane_parallel(const Phase& phase, PlaneParallelConfig
         if (cfg.keep_map) out.map = tr.records;
 
     if (tr.map_photons > 0) {
-        const ConeAveragedPhase<Phase> cone(phase, cfg.omega);
         const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth);
         auto run = [&](const auto& store, const auto& volume) {
             out.store_bytes = store.memory_bytes();
             out.seconds_build = detail::seconds_since(t0) - out.seconds_transport;
-            detail::estimate_lu(store, volume, cone, cfg, slab, tr, out);
+            detail::estimate_lu(store, volume, medium, optics, cfg, slab, tr, out);
         };
         switch (cfg.store) {
             case StoreKind::kdtree: run(KdTreeStore<Record>(std::move(tr.records)), spheres); break;
@@ -154,6 +157,29 @@ PlaneParallelResult solve_plane_parallel(const Phase& phase, PlaneParallelConfig
         out.seconds_collect = detail::seconds_since(t0) - out.seconds_transport - out.seconds_build;
     }
     out.seconds = detail::seconds_since(t0);
+    return out;
+}
+
+/// Homogeneous water of attenuation cfg.attenuation and albedo cfg.albedo with one phase function.
+template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
+PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallelConfig& cfg) {
+    const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
+    const ConeAveragedPhase<Phase> cone(phase, cfg.omega);
+    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics<ConeAveragedPhase<Phase>>{cone, medium.attenuation()}, cfg);
+    out.phase_name = phase.name();
+    out.moments = phase_moments(phase);
+    return out;
+}
+
+/// Depth-varying water: each scattering component's phase function averaged over cfg.omega.
+template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
+PlaneParallelResult solve_stratified(const StratifiedWater<Phase>& water, const PlaneParallelConfig& cfg) {
+    std::vector<ConeAveragedPhase<Phase>> cones;
+    for (const auto& p : water.phases()) cones.emplace_back(p, cfg.omega);
+    using Optics = StratifiedRayOptics<StratifiedWater<Phase>, ConeAveragedPhase<Phase>>;
+    auto out = solve_plane_parallel_in<Record>(water, Optics{water, cones}, cfg);
+    out.phase_name = "mixture";
+    for (const auto& p : water.phases()) out.phase_name += " " + p.name();
     return out;
 }
 

@@ -102,11 +102,11 @@ private:
         const bool stores = index < s_.map_photons;
         const auto map_batch = static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0);
         // Free paths (manual eq. 3.17) use c, or b alone when absorption is continuous.
-        const double c = continuous_ ? medium_.scattering() : medium_.attenuation();
+        const Coefficient path_kind = continuous_ ? Coefficient::scattering : Coefficient::attenuation;
         const double floor_depth = slab_.floor_depth();
         const bool has_bottom = slab_.bottom().kind != BottomKind::none;
         while (true) {
-            const double s = c > 0.0 ? -std::log(rng.uniform()) / c : INFINITY;
+            const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
             const double z1 = p.pos.z + p.dir.z * s;
             if (z1 < 0.0) {                               // reaches the surface from below
                 const double t = -p.pos.z / p.dir.z;
@@ -175,15 +175,16 @@ private:
     }
 
     /// Moves the photon by path length s, tallying the detectors it passes (and, with
-    /// continuous absorption, attenuating its weight by exp(-a s)).
+    /// continuous absorption, attenuating its weight by exp(-int a ds)).
     void fly(PhotonState& p, double s, detail::BlockResult<Record>& out) const {
         const double z1 = p.pos.z + p.dir.z * s;
-        const double a = continuous_ ? medium_.absorption() : 0.0;
-        layers_.record(p.pos.z, z1, p.dir.z, s, p.w, a, out.tally.data());
+        const Flight flight{p.pos.z, z1, p.dir.z, s, p.w};
+        if (continuous_) layers_.record(flight, medium_, out.tally.data());
+        else layers_.record(flight, NoAbsorption{}, out.tally.data());
         p.pos += p.dir * s;
         p.pos.z = z1;
         if (continuous_) {
-            const double w = p.w * std::exp(-a * s);
+            const double w = p.w * std::exp(-medium_.optical_path(Coefficient::absorption, flight.z0, flight.uz, s));
             out.ledger.absorbed += p.w - w;
             p.w = w;
         }
@@ -197,7 +198,7 @@ private:
             out.ledger.truncated += p.w;
             return false;
         }
-        const double w0 = medium_.albedo();
+        const double w0 = albedo_at(medium_, p.pos.z);
         if (continuous_) {
             if (stores && rng.uniform() < p.w) store(p, out, map_batch);  // every interaction scatters
         } else if (s_.absorption == AbsorptionMode::implicit_capture) {
@@ -212,7 +213,8 @@ private:
             if (stores) store(p, out, map_batch);
         }
         ++p.order;
-        const PhaseSample ps = medium_.phase().sample(rng.uniform(), rng.uniform());
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        const PhaseSample ps = medium_.sample_phase(p.pos.z, u1, u2);
         p.dir = rotate_direction(p.dir, ps.cos_psi, ps.phi);
         return roulette(p, rng, out.ledger);
     }

@@ -1,0 +1,341 @@
+#pragma once
+// The run-time form of a medium: the IOP_MODEL of a DIRSIG material file (manual chapter 5)
+// bound to secchi's model types, as an iop::RuntimeIopModel (type-erased, used only to
+// sample the depth profile; the transport runs on the resulting StratifiedWater).
+//
+//   BULK_PROPERTIES {
+//     IOP_MODEL {
+//       BASE_MEDIUM = null | air | purewater | sbpurewater | pspurewater      (5.3)
+//       ADD_CONCENTRATION_MODEL  { TYPE = constant | linear | gaussian ... }   (5.10)
+//       ADD_ABSORPTION_MODEL     { TYPE = constant | specific | morelconc | morelcovar | raman
+//                                         | sbpf | smithbaker | prieursathy
+//                                         | bricaud1995 | bricaud1998 | cdom ... }  (5.6)
+//       ADD_SCATTERING_MODEL     { TYPE = constant | specific | gordonmorel | kopelevich
+//                                         | buiteveld ... }                          (5.7)
+//       ADD_PHASE_FUNCTION_MODEL { TYPE = uniform | data | hgpf | schlick | rayleigh | petzold
+//                                         | fournierforand ... SCATID = ... }        (5.8)
+//       REFRACTIVE_INDEX_MODEL   { TYPE = constant | iapws ... }                   (5.9)
+//     }
+//   }
+// Parameter names and defaults are the manual's tables (see each model's header). Beyond the
+// manual: bricaud1995 / bricaud1998 (CONCID; bricaud1998 FRACTION = particles|phytoplankton),
+// cdom (A440, REFWL, S) and fournierforand (BB = b_b/b, N = 1.10).
+// Cross-references: CONCID names an ADD_CONCENTRATION_MODEL's ID, ABSID an absorption model's,
+// SCATID a scattering model's; each must exist (and a scattering model takes at most one
+// phase function; one without gets the uniform one). A gordonmorel model with EXCLUSIVE = 1
+// removes every other scattering model, the base medium's included.
+// Every error names the file, line, section and parameter. SIGMA noise is keyed by the run's
+// seed and the model's position in the file (optics/iop/noise.hpp).
+#include "secchi/io/material_file.hpp"
+#include "secchi/optics/iop/absorption.hpp"
+#include "secchi/optics/iop/coefficient.hpp"
+#include "secchi/optics/iop/concentration.hpp"
+#include "secchi/optics/iop/linear_model.hpp"
+#include "secchi/optics/iop/refractive_index.hpp"
+#include "secchi/optics/iop/scattering.hpp"
+#include "secchi/optics/phase/petzold.hpp"
+#include "secchi/optics/phase/tabulated_samples.hpp"
+#include <limits>
+#include <map>
+#include <optional>
+
+namespace secchi::io {
+
+namespace detail {
+
+/// Runs f(); an input_error from a model's own checks gets the section's file:line appended.
+template <class F>
+auto in_section(const ParameterReader& r, F&& f) {
+    try {
+        return f();
+    } catch (const input_error& e) {
+        throw input_error(std::string(e.what()) + " in section " + r.context() + " at " + r.section().loc.where());
+    }
+}
+
+class MaterialBinder {
+public:
+    MaterialBinder(std::uint64_t seed) : seed_(seed) {}
+
+    iop::RuntimeIopModel bind(const MaterialSection& iop_model) {
+        ParameterReader top(iop_model);
+        reject_unknown_sections(iop_model);
+        const std::string base = top.text("BASE_MEDIUM");
+        for (const auto* s : iop_model.all("ADD_CONCENTRATION_MODEL")) add_concentration(*s);
+        add_base_medium(base, top);
+        for (const auto* s : iop_model.all("ADD_ABSORPTION_MODEL")) add_absorption(*s, false);
+        for (const auto* s : iop_model.all("ADD_ABSORPTION_MODEL")) add_absorption(*s, true);  // covariant ones
+        for (const auto* s : iop_model.all("ADD_SCATTERING_MODEL")) add_scattering(*s);
+        for (const auto* s : iop_model.all("ADD_PHASE_FUNCTION_MODEL")) add_phase(*s);
+        const auto ior = iop_model.all("REFRACTIVE_INDEX_MODEL");
+        if (ior.size() > 1) ParameterReader(*ior[1]).reject_value("TYPE", "only one REFRACTIVE_INDEX_MODEL is allowed");
+        if (!ior.empty()) set_refractive_index(*ior[0]);
+        top.finish();
+        return finish();
+    }
+
+private:
+    struct NamedScatterer {
+        std::string id;
+        iop::AnyCoefficient coefficient;
+        std::optional<AnyPhaseFunction> phase;
+        bool exclusive = false;
+    };
+
+    static void reject_unknown_sections(const MaterialSection& s) {
+        static const std::vector<std::string> known{"ADD_CONCENTRATION_MODEL", "ADD_ABSORPTION_MODEL",
+                                                    "ADD_SCATTERING_MODEL", "ADD_PHASE_FUNCTION_MODEL",
+                                                    "REFRACTIVE_INDEX_MODEL"};
+        for (const auto& sub : s.sections)
+            if (std::find(known.begin(), known.end(), sub.name) == known.end())
+                reject("section", sub.name, "unknown section in IOP_MODEL", sub.loc.where());
+    }
+
+    iop::Noise noise(ParameterReader& r) {
+        const double sigma = r.number_in("SIGMA", 0.0, 0.0, std::numeric_limits<double>::max());
+        return iop::Noise(sigma, seed_, next_key_++);
+    }
+
+    void add_base_medium(const std::string& base, ParameterReader& r) {
+        if (base == "null" || base == "air") {
+            n_ = [v = base == "air" ? 1.0003 : 1.0](double) { return v; };
+            return;
+        }
+        if (base == "purewater") absorbers_.emplace_back("purewater", iop::HybridPureWaterAbsorption());
+        else if (base == "sbpurewater") absorbers_.emplace_back("sbpurewater", iop::SmithBakerAbsorption());
+        else if (base == "pspurewater") absorbers_.emplace_back("pspurewater", iop::PrieurSathyAbsorption());
+        else r.reject_value("BASE_MEDIUM", "must be null, air, purewater, sbpurewater or pspurewater");
+        // Every pure water: Buiteveld scattering (eq. 5.1) with the Rayleigh-like phase
+        // function of eq. 5.2, and the IAPWS index at 286 K (5.3.3).
+        scatterers_.push_back({base, iop::BuiteveldScattering(), AnyPhaseFunction{pure_water_phase()}, false});
+        n_ = [ior = iop::pure_water_refractive_index()](double wl) { return ior.refractive_index(wl); };
+    }
+
+    void add_concentration(const MaterialSection& s) {
+        ParameterReader r(s);
+        const std::string type = r.text("TYPE");
+        const std::string id = r.text("ID", "chlorophyll");
+        const auto nz = noise(r);
+        auto model = in_section(r, [&]() -> iop::AnyConcentration {
+            if (type == "constant") return iop::ConstantConcentration({r.number("CONC", 2.0)}, nz);
+            if (type == "linear")
+                return iop::LinearConcentration({r.number("ATZERO", 2.0), r.number("ZLEVEL", 0.0), r.number("RATE", -0.1)},
+                                                nz);
+            if (type == "gaussian" || type == "gauss")  // the manual's 5.10 example writes "gauss"
+                return iop::GaussianConcentration({r.number("ZLEVEL", 0.0), r.number("DMAX", 17.0),
+                                                   r.number("BG", 0.2), r.number("H", 144.0), r.number("S", 9.0)},
+                                                  nz);
+            r.reject_value("TYPE", "unknown concentration model (constant, linear, gaussian)");
+        });
+        if (concentrations_.count(id)) r.reject_value("ID", "a concentration model with this ID already exists");
+        concentrations_.emplace(id, std::move(model));
+        r.finish();
+    }
+
+    iop::AnyConcentration concentration(ParameterReader& r, const std::string& fallback = "chlorophyll") {
+        const std::string id = r.text("CONCID", fallback);
+        if (id == "none") return iop::NoConcentration{};
+        const auto it = concentrations_.find(id);
+        if (it == concentrations_.end()) r.reject_value("CONCID", "no ADD_CONCENTRATION_MODEL has this ID");
+        return it->second;
+    }
+
+    iop::SpectralTable spectral_file(ParameterReader& r) {
+        const auto data = read_spectral_file(r.file("FILENAME"));
+        return in_section(r, [&] { return iop::SpectralTable(data.path.string(), data.wavelength_nm, data.value); });
+    }
+
+    /// constant: ABS/SCAT, or FILENAME (which overrides the constant, manual 5.6.1).
+    iop::AnyCoefficient constant_coefficient(ParameterReader& r, const char* value_name, const iop::Noise& nz) {
+        if (r.has("FILENAME")) return iop::ConstantCoefficient(spectral_file(r), nz);
+        return iop::ConstantCoefficient(r.number(value_name, 0.1), nz);
+    }
+
+    void add_absorption(const MaterialSection& s, bool covariant_pass) {
+        ParameterReader r(s);
+        const std::string type = r.text("TYPE");
+        if ((type == "morelcovar") != covariant_pass) return;
+        const std::string id = r.text("ID", type == "morelcovar" ? "morelcov" : type);
+        const auto nz = noise(r);
+        auto model = in_section(r, [&]() -> iop::AnyCoefficient {
+            if (type == "constant") return constant_coefficient(r, "ABS", nz);
+            if (type == "specific") return iop::SpecificCoefficient(spectral_file(r), concentration(r), nz);
+            if (type == "morelconc") return morel_concentration(r, nz);
+            if (type == "morelcovar") return morel_covariant(r, nz);
+            if (type == "raman")
+                return iop::RamanAbsorption({r.number("REFWL", 488.0), r.number("REFABS", 0.00026), r.number("Q", 5.5)},
+                                            nz);
+            if (type == "sbpf") return iop::HybridPureWaterAbsorption(nz);
+            if (type == "smithbaker") return iop::SmithBakerAbsorption(nz);
+            if (type == "prieursathy") return iop::PrieurSathyAbsorption(nz);
+            if (type == "bricaud1995") return iop::Bricaud1995Absorption(concentration(r), nz);
+            if (type == "bricaud1998") return bricaud1998(r, nz);
+            if (type == "cdom")
+                return iop::CdomAbsorption({r.number("A440", 0.012), r.number("REFWL", 440.0), r.number("S", 0.014)}, nz);
+            r.reject_value("TYPE",
+                           "unknown absorption model (constant, specific, morelconc, morelcovar, raman, sbpf, "
+                           "smithbaker, prieursathy, bricaud1995, bricaud1998, cdom)");
+        });
+        for (const auto& [existing, m] : absorbers_)
+            if (existing == id) r.reject_value("ID", "an absorption model with this ID already exists");
+        absorbers_.emplace_back(id, std::move(model));
+        r.finish();
+    }
+
+    iop::AnyCoefficient morel_concentration(ParameterReader& r, const iop::Noise& nz) {
+        iop::MorelConcentrationParams p;
+        if (r.has("FILENAME")) p.table = spectral_file(r);
+        else if (r.has("ABS")) p.table.reset();  // a constant specific absorption instead of the default table
+        p.abs = r.number("ABS", p.abs);
+        p.refwl = r.number("REFWL", p.refwl);
+        p.prenorm = r.flag("PRENORM", p.prenorm);
+        p.k = r.number("K", p.k);
+        p.q = r.number("Q", p.q);
+        return iop::MorelConcentrationAbsorption(concentration(r), std::move(p), nz);
+    }
+
+    iop::AnyCoefficient morel_covariant(ParameterReader& r, const iop::Noise& nz) {
+        const std::string base_id = r.text("ABSID", "morelconc");
+        const auto it = std::find_if(absorbers_.begin(), absorbers_.end(), [&](const auto& a) { return a.first == base_id; });
+        if (it == absorbers_.end()) r.reject_value("ABSID", "no (non-covariant) absorption model has this ID");
+        return iop::MorelCovariantAbsorption(it->second, {r.number("REFWL", 440.0), r.flag("USEWL", false),
+                                                          r.number("K", 0.2), r.number("Q", -0.014)},
+                                             nz);
+    }
+
+    iop::AnyCoefficient bricaud1998(ParameterReader& r, const iop::Noise& nz) {
+        const std::string fraction = r.text("FRACTION", "particles");
+        if (fraction != "particles" && fraction != "phytoplankton")
+            r.reject_value("FRACTION", "must be particles or phytoplankton");
+        return iop::Bricaud1998Absorption(concentration(r),
+                                          fraction == "particles" ? iop::Bricaud1998Fraction::particles
+                                                                  : iop::Bricaud1998Fraction::phytoplankton,
+                                          nz);
+    }
+
+    void add_scattering(const MaterialSection& s) {
+        ParameterReader r(s);
+        const std::string type = r.text("TYPE");
+        static const std::map<std::string, std::string> default_id{{"constant", "constant"},  {"specific", "specific"},
+                                                                   {"gordonmorel", "gmconc"}, {"kopelevich", "kconc"},
+                                                                   {"buiteveld", "buiteveld"}};
+        const auto def = default_id.find(type);
+        if (def == default_id.end())
+            r.reject_value("TYPE", "unknown scattering model (constant, specific, gordonmorel, kopelevich, buiteveld)");
+        const std::string id = r.text("ID", def->second);
+        const auto nz = noise(r);
+        bool exclusive = false;
+        auto model = in_section(r, [&]() -> iop::AnyCoefficient {
+            if (type == "constant") return constant_coefficient(r, "SCAT", nz);
+            if (type == "specific") return iop::SpecificCoefficient(spectral_file(r), concentration(r), nz);
+            if (type == "gordonmorel") {
+                exclusive = r.flag("EXCLUSIVE", false);
+                return iop::GordonMorelScattering(
+                    concentration(r), {r.number("REFWL", 550.0), r.number("K", 0.30), r.number("Q", 0.62), exclusive},
+                    nz);
+            }
+            if (type == "kopelevich")
+                return iop::KopelevichScattering(concentration(r, "none"),
+                                                 {r.number("REFWL", 550.0), r.number("K", 0.30), r.number("Q", 0.62)},
+                                                 nz);
+            return iop::BuiteveldScattering({r.number("K", 3.4123664e8), r.number("Q", -4.1537676)}, nz);
+        });
+        for (const auto& sc : scatterers_)
+            if (sc.id == id) r.reject_value("ID", "a scattering model with this ID already exists");
+        scatterers_.push_back({id, std::move(model), std::nullopt, exclusive});
+        r.finish();
+    }
+
+    void add_phase(const MaterialSection& s) {
+        ParameterReader r(s);
+        const std::string type = r.text("TYPE");
+        const std::string scat_id = r.text("SCATID", "constant");
+        (void)r.text("ID", type);
+        auto phase = in_section(r, [&]() -> AnyPhaseFunction { return AnyPhaseFunction{phase_model(type, r)}; });
+        const auto it = std::find_if(scatterers_.begin(), scatterers_.end(), [&](const auto& sc) { return sc.id == scat_id; });
+        if (it == scatterers_.end()) r.reject_value("SCATID", "no ADD_SCATTERING_MODEL has this ID");
+        if (it->phase) r.reject_value("SCATID", "this scattering model already has a phase function");
+        it->phase = std::move(phase);
+        r.finish();
+    }
+
+    AnyPhase phase_model(const std::string& type, ParameterReader& r) {
+        if (type == "uniform") return IsotropicPhase{};
+        if (type == "petzold") return petzold_m93(TabulatedConvention::trapezoid);
+        if (type == "hgpf") return hg_mixture(r.numbers("G", {0.0}), r.numbers("W", {1.0}));
+        if (type == "schlick") return schlick_mixture(r.numbers("G", {0.0}), r.numbers("W", {1.0}));
+        if (type == "rayleigh") {
+            const double k2 = r.number("K2", 1.0);
+            const auto k1 = r.optional_number("K1");
+            return k1 ? RayleighLikePhase::from_k1_k2(*k1, k2) : RayleighLikePhase(k2);
+        }
+        if (type == "fournierforand")
+            return FournierForandPhase::from_backscatter_fraction(r.number("BB", 0.0183), r.number("N", 1.10));
+        if (type == "data") {
+            const auto data = read_spectral_file(r.file("FILENAME"));
+            if (r.flag("MUSAMPLES", false)) return tabulated_from_mu_samples(data.wavelength_nm, data.value);
+            return tabulated_from_theta_samples(data.wavelength_nm, data.value);
+        }
+        r.reject_value("TYPE", "unknown phase function model (uniform, data, hgpf, schlick, rayleigh, petzold, "
+                               "fournierforand)");
+    }
+
+    void set_refractive_index(const MaterialSection& s) {
+        ParameterReader r(s);
+        const std::string type = r.text("TYPE");
+        (void)r.text("ID", type);
+        const auto nz = noise(r);
+        if (type == "constant") {
+            const iop::ConstantRefractiveIndex m = in_section(r, [&] { return iop::ConstantRefractiveIndex(r.number("IOR", 1.0), nz); });
+            n_ = [m](double wl) { return m.refractive_index(wl); };
+        } else if (type == "iapws") {
+            const auto m = in_section(r, [&] {
+                return iop::IapwsRefractiveIndex(r.number("TEMP", 273.15), r.number("DENSITY", 1000.0), nz);
+            });
+            n_ = [m](double wl) { return m.refractive_index(wl); };
+        } else {
+            r.reject_value("TYPE", "unknown refractive index model (constant, iapws)");
+        }
+        r.finish();
+    }
+
+    iop::RuntimeIopModel finish() {
+        iop::RuntimeIopModel m;
+        for (auto& [id, a] : absorbers_) m.absorbers.push_back(std::move(a));
+        const bool exclusive = std::any_of(scatterers_.begin(), scatterers_.end(), [](const auto& s) { return s.exclusive; });
+        for (auto& s : scatterers_) {
+            if (exclusive && !s.exclusive) continue;  // EXCLUSIVE = 1 (manual 5.7.3)
+            m.scatterers.push_back({std::move(s.coefficient), s.phase ? std::move(*s.phase) : AnyPhaseFunction{IsotropicPhase{}}});
+        }
+        m.n = std::move(n_);
+        return m;
+    }
+
+    std::uint64_t seed_, next_key_ = 0;
+    std::map<std::string, iop::AnyConcentration> concentrations_;
+    std::vector<std::pair<std::string, iop::AnyCoefficient>> absorbers_;
+    std::vector<NamedScatterer> scatterers_;
+    iop::RefractiveIndexFunction n_ = [](double) { return 1.0; };
+};
+
+}  // namespace detail
+
+/// The IOP_MODEL of a parsed material file (root = parse_material's result).
+inline iop::RuntimeIopModel bind_iop_model(const MaterialSection& root, std::uint64_t seed = 1) {
+    const auto bulk = root.all("BULK_PROPERTIES");
+    if (bulk.size() != 1)
+        reject("BULK_PROPERTIES sections", bulk.size(), "a material file needs exactly one", root.loc.file);
+    const auto models = bulk[0]->all("IOP_MODEL");
+    if (models.size() != 1)
+        reject("IOP_MODEL sections", models.size(), "BULK_PROPERTIES needs exactly one", bulk[0]->loc.where());
+    for (const auto& sub : bulk[0]->sections)
+        if (sub.name != "IOP_MODEL") reject("section", sub.name, "unknown section in BULK_PROPERTIES", sub.loc.where());
+    return detail::MaterialBinder(seed).bind(*models[0]);
+}
+
+/// Reads and binds a material file.
+inline iop::RuntimeIopModel read_iop_model(const std::filesystem::path& path, std::uint64_t seed = 1) {
+    return bind_iop_model(read_material_file(path), seed);
+}
+
+}  // namespace secchi::io

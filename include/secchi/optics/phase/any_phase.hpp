@@ -1,0 +1,50 @@
+#pragma once
+// Every phase-function type as one run-time variant, and a wrapper that makes the variant a
+// PhaseFunction itself (one std::visit per call: for configuration, tests and tools; the
+// photon loop instead visits once and runs on the concrete type, see solver/phase_choice.hpp).
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "secchi/optics/phase/fournier_forand.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/optics/phase/mixture.hpp"
+#include "secchi/optics/phase/phase_function.hpp"
+#include "secchi/optics/phase/rayleigh.hpp"
+#include "secchi/optics/phase/rayleigh_like.hpp"
+#include "secchi/optics/phase/schlick.hpp"
+#include "secchi/optics/phase/tabulated.hpp"
+
+namespace secchi {
+
+using AnyPhase = std::variant<IsotropicPhase, RayleighPhase, HenyeyGreensteinPhase, TabulatedPhase, SchlickPhase,
+                              PhaseMixture<HenyeyGreensteinPhase>, PhaseMixture<SchlickPhase>, RayleighLikePhase,
+                              FournierForandPhase>;
+
+/// An AnyPhase as a PhaseFunction (with the breakpoints of the held alternative).
+struct AnyPhaseFunction {
+    AnyPhase p;
+
+    double eval(double cos_psi) const {
+        return std::visit([&](const auto& f) { return static_cast<double>(f.eval(cos_psi)); }, p);
+    }
+    double pdf(double cos_psi) const {
+        return std::visit([&](const auto& f) { return static_cast<double>(f.pdf(cos_psi)); }, p);
+    }
+    PhaseSample sample(double u1, double u2) const {
+        return std::visit([&](const auto& f) { return f.sample(u1, u2); }, p);
+    }
+    std::vector<double> breakpoints() const {
+        return std::visit([](const auto& f) { return breakpoints_of(f); }, p);
+    }
+    std::string name() const {
+        return std::visit([](const auto& f) { return std::string(f.name()); }, p);
+    }
+};
+
+static_assert(PhaseFunction<AnyPhaseFunction>);
+static_assert(PhaseFunction<SchlickPhase> && PhaseFunction<RayleighLikePhase> && PhaseFunction<FournierForandPhase>);
+static_assert(PhaseFunction<PhaseMixture<HenyeyGreensteinPhase>> && PhaseFunction<PhaseMixture<SchlickPhase>>);
+
+}  // namespace secchi

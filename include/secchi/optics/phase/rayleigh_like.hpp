@@ -1,0 +1,80 @@
+#pragma once
+// The Rayleigh-based model (manual section 5.8.5, eq. 5.29, model "rayleigh"):
+//   p(psi) = k1 (1 + k2 cos^2 psi),   k2 > -1,
+// normalised when 2 pi k1 int_{-1}^{1} (1 + k2 mu^2) dmu = 4 pi k1 (1 + k2/3) = 1, i.e.
+//   k1 = 1 / (4 pi (1 + k2/3)).
+// The manual makes that normalisation the user's job; here k1 is always computed from k2,
+// and from_k1_k2() rejects a user's k1 that is more than 1 % off it. Pure water (manual
+// eq. 5.2, after Mobley 1994): k1 = 0.06225, k2 = 0.835 (normalised k1 = 0.0622507).
+// RayleighPhase (M93 problem 1) is the case k2 = 1. Mean cosine 0, backscatter fraction 1/2.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "secchi/core/error.hpp"
+#include "secchi/optics/phase/phase_function.hpp"
+
+namespace secchi {
+
+class RayleighLikePhase {
+public:
+    explicit RayleighLikePhase(double k2) : k2_(k2), k1_(1.0 / (four_pi * (1.0 + k2 / 3.0))) {
+        require(std::isfinite(k2) && k2 > -1.0, "k2", k2,
+                "the Rayleigh-like model needs k2 > -1 (p = k1 (1 + k2 cos^2) positive)");
+    }
+
+    /// Eq. 5.29 with the normalised k1 and a user's k1 checked against it (within 1 %).
+    static RayleighLikePhase from_k1_k2(double k1, double k2) {
+        const RayleighLikePhase p(k2);
+        std::ostringstream why;
+        why << "eq. 5.29 is normalised only for k1 = 1/(4 pi (1 + k2/3)) = " << p.k1() << " (k2 = " << k2
+            << "); K1 must be within 1 % of it";
+        require(std::isfinite(k1) && std::abs(k1 / p.k1() - 1.0) <= 0.01, "K1", k1, why.str());
+        return p;
+    }
+
+    double eval(double cos_psi) const { return k1_ * (1.0 + k2_ * cos_psi * cos_psi); }
+    double pdf(double cos_psi) const { return eval(cos_psi); }
+
+    /// Exact inverse CDF. The CDF in mu, 2 pi k1 ((mu + 1) + k2 (mu^3 + 1)/3) = u, is the
+    /// cubic k2 mu^3 + 3 mu = q with q = (2u - 1)(3 + k2), odd in mu and q.
+    PhaseSample sample(double u1, double u2) const {
+        const double q = (2.0 * u1 - 1.0) * (3.0 + k2_);
+        const double mu = std::copysign(solve_cubic(std::abs(q)), q);
+        return {mu, two_pi * u2, pdf(mu)};
+    }
+
+    double k1() const { return k1_; }
+    double k2() const { return k2_; }
+
+    std::string name() const {
+        std::ostringstream s;
+        s << "rayleigh_like(k2=" << k2_ << ")";
+        return s.str();
+    }
+
+private:
+    /// The root mu in [0, 1] of h(mu) = k2 mu^3 + 3 mu - aq (0 <= aq <= 3 + k2). h is
+    /// increasing there (h' = 3 (1 + k2 mu^2) > 0 for k2 > -1), convex for k2 >= 0 and concave
+    /// for k2 < 0, so Newton from mu = 1 (resp. 0) converges monotonically without overshoot;
+    /// it stops when rounding ends the monotone progress.
+    double solve_cubic(double aq) const {
+        const bool convex = k2_ >= 0.0;
+        double mu = convex ? 1.0 : 0.0;
+        for (int iter = 0; iter < 200; ++iter) {
+            const double h = (k2_ * mu * mu + 3.0) * mu - aq, dh = 3.0 * (1.0 + k2_ * mu * mu);
+            const double next = std::clamp(mu - h / dh, 0.0, 1.0);
+            if (convex ? next >= mu : next <= mu) break;
+            mu = next;
+        }
+        return mu;
+    }
+
+    double k2_, k1_;
+};
+
+/// Pure water, manual eq. 5.2: k1 = 0.06225, k2 = 0.835 (k1 as published, checked).
+inline RayleighLikePhase pure_water_phase() { return RayleighLikePhase::from_k1_k2(0.06225, 0.835); }
+
+}  // namespace secchi
