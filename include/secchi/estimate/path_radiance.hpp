@@ -13,6 +13,7 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
 #include "secchi/optics/medium.hpp"
+#include "secchi/transport/importance.hpp"
 #include "secchi/transport/parallel.hpp"
 #include <cstdint>
 #include <span>
@@ -44,18 +45,20 @@ struct HomogeneousRayOptics {
 };
 
 /// Depth-varying water (a StratifiedWater): the components' cone-averaged phase functions
-/// weighted by b_i(z) / b(z) (eq. 5.5-5.6), and exp(-int c) along the ray.
+/// weighted by b_i(z) / b(z) (eq. 5.5-5.6), and exp(-int c) along the ray. With depth
+/// importance in the first pass, a photon stored at depth z carries the flux Phi / I(z).
 template <class Water, class ConePhase>
 struct StratifiedRayOptics {
     const Water& water;
     const std::vector<ConePhase>& cones;  ///< one per scattering component, in order
+    ImportanceLevels importance{};        ///< the first pass's (transport/importance.hpp)
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
         std::array<double, Water::max_components> w{};
         const double b = water.weights(z, w);
         double p = 0.0;
         for (std::size_t i = 0; i < cones.size(); ++i) p += w[i] * cones[i].eval(cos_psi);
         const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
-        return b > 0.0 ? p / b * std::exp(-tau) : 0.0;
+        return b > 0.0 ? p / b * std::exp(-tau) / importance.factor(z) : 0.0;
     }
 };
 

@@ -43,13 +43,33 @@ namespace secchi::io {
 
 namespace detail {
 
-/// Runs f(); an input_error from a model's own checks gets the section's file:line appended.
+/// Where a model's own error "invalid NAME = value: ..." points in the file: the line of the
+/// parameter NAME (matched ignoring case: the models say "g" for the file's G), else the
+/// section's line.
+inline std::string culprit_location(const ParameterReader& r, std::string_view message) {
+    constexpr std::string_view prefix = "invalid ";
+    const auto eq = message.find(" = ");
+    if (message.substr(0, prefix.size()) == prefix && eq != std::string_view::npos) {
+        const std::string_view name = message.substr(prefix.size(), eq - prefix.size());
+        const auto same = [&](const MaterialParameter& p) {
+            return std::equal(p.name.begin(), p.name.end(), name.begin(), name.end(), [](char a, char b) {
+                return std::toupper(static_cast<unsigned char>(a)) == std::toupper(static_cast<unsigned char>(b));
+            });
+        };
+        const auto& ps = r.section().parameters;
+        if (const auto it = std::find_if(ps.begin(), ps.end(), same); it != ps.end()) return it->loc.where();
+    }
+    return r.section().loc.where();
+}
+
+/// Runs f(); an input_error from a model's own checks gets the file:line of the parameter it
+/// names (or of the section) and the section appended.
 template <class F>
 auto in_section(const ParameterReader& r, F&& f) {
     try {
         return f();
     } catch (const input_error& e) {
-        throw input_error(std::string(e.what()) + " in section " + r.context() + " at " + r.section().loc.where());
+        throw input_error(std::string(e.what()) + " in section " + r.context() + " at " + culprit_location(r, e.what()));
     }
 }
 
@@ -82,6 +102,12 @@ private:
         bool exclusive = false;
     };
 
+    /// A model section holds parameters only: a nested section would otherwise be ignored.
+    static void reject_subsections(const MaterialSection& s) {
+        for (const auto& sub : s.sections)
+            reject("section", sub.name, "unexpected section inside " + s.describe(), sub.loc.where());
+    }
+
     static void reject_unknown_sections(const MaterialSection& s) {
         static const std::vector<std::string> known{"ADD_CONCENTRATION_MODEL", "ADD_ABSORPTION_MODEL",
                                                     "ADD_SCATTERING_MODEL", "ADD_PHASE_FUNCTION_MODEL",
@@ -112,6 +138,7 @@ private:
     }
 
     void add_concentration(const MaterialSection& s) {
+        reject_subsections(s);
         ParameterReader r(s);
         const std::string type = r.text("TYPE");
         const std::string id = r.text("ID", "chlorophyll");
@@ -152,6 +179,7 @@ private:
     }
 
     void add_absorption(const MaterialSection& s, bool covariant_pass) {
+        reject_subsections(s);
         ParameterReader r(s);
         const std::string type = r.text("TYPE");
         if ((type == "morelcovar") != covariant_pass) return;
@@ -214,6 +242,7 @@ private:
     }
 
     void add_scattering(const MaterialSection& s) {
+        reject_subsections(s);
         ParameterReader r(s);
         const std::string type = r.text("TYPE");
         static const std::map<std::string, std::string> default_id{{"constant", "constant"},  {"specific", "specific"},
@@ -247,6 +276,7 @@ private:
     }
 
     void add_phase(const MaterialSection& s) {
+        reject_subsections(s);
         ParameterReader r(s);
         const std::string type = r.text("TYPE");
         const std::string scat_id = r.text("SCATID", "constant");
@@ -281,6 +311,7 @@ private:
     }
 
     void set_refractive_index(const MaterialSection& s) {
+        reject_subsections(s);
         ParameterReader r(s);
         const std::string type = r.text("TYPE");
         (void)r.text("ID", type);
@@ -320,16 +351,29 @@ private:
 
 }  // namespace detail
 
+namespace detail {
+/// The last line holding anything of s (its own, a parameter's or a nested section's).
+inline int last_line(const MaterialSection& s) {
+    int line = s.loc.line;
+    for (const auto& p : s.parameters) line = std::max(line, p.loc.line);
+    for (const auto& sub : s.sections) line = std::max(line, last_line(sub));
+    return line;
+}
+}  // namespace detail
+
 /// The IOP_MODEL of a parsed material file (root = parse_material's result).
 inline iop::RuntimeIopModel bind_iop_model(const MaterialSection& root, std::uint64_t seed = 1) {
     const auto bulk = root.all("BULK_PROPERTIES");
-    if (bulk.size() != 1)
-        reject("BULK_PROPERTIES sections", bulk.size(), "a material file needs exactly one", root.loc.file);
+    if (bulk.size() != 1)  // the second one's place, or the file's end when there is none
+        reject("BULK_PROPERTIES sections", bulk.size(), "a material file needs exactly one",
+               bulk.empty() ? root.loc.file + ":" + std::to_string(detail::last_line(root)) : bulk[1]->loc.where());
     const auto models = bulk[0]->all("IOP_MODEL");
     if (models.size() != 1)
-        reject("IOP_MODEL sections", models.size(), "BULK_PROPERTIES needs exactly one", bulk[0]->loc.where());
+        reject("IOP_MODEL sections", models.size(), "BULK_PROPERTIES needs exactly one",
+               models.empty() ? bulk[0]->loc.where() : models[1]->loc.where());
     for (const auto& sub : bulk[0]->sections)
         if (sub.name != "IOP_MODEL") reject("section", sub.name, "unknown section in BULK_PROPERTIES", sub.loc.where());
+    ParameterReader(*bulk[0]).finish();  // BULK_PROPERTIES takes no parameters of its own
     return detail::MaterialBinder(seed).bind(*models[0]);
 }
 

@@ -62,25 +62,31 @@ public:
     [[nodiscard]] int split_axis(std::size_t i) const { return (axes_[i >> 2] >> (2 * (i & 3))) & 3; }
     [[nodiscard]] bool is_internal(std::size_t i) const { return 2 * i + 1 < heap_.size(); }
 
-    /// Every record at distance <= r from p (Jensen 2001, "locate_photons", made iterative).
+    /// Every record at distance <= r from p (Jensen 2001, "locate_photons", made iterative:
+    /// the walk descends to the near child directly and stacks only the far children it must
+    /// still visit, so each visited node costs one record load and one plane test).
+    /// Visits and reports records in the same order as the recursive version (a node, then
+    /// its near subtree, then its far subtree).
     template <Collector C>
     bool within(const vec3& p, Radius r, C& collect) const {
         const double r2 = r.squared(), prune2 = detail::pruning_radius2(r2);
+        const auto n = static_cast<std::uint32_t>(heap_.size());
         Stack<std::uint32_t> stack;
-        if (!heap_.empty()) stack.push(0);
+        if (n > 0) stack.push(0);
         while (!stack.empty()) {
-            const std::uint32_t i = stack.pop();
-            const vec3 q = heap_[i].position();
-            if (is_internal(i)) {
+            for (std::uint32_t i = stack.pop();;) {
+                const vec3 q = heap_[i].position();
+                const vec3 d = q - p;
+                const double d2 = glm::dot(d, d);
+                if (d2 <= r2 && !collect(Hit{i, 0.0, d2})) return false;
+                if (2 * i + 1 >= n) break;  // a leaf
                 const int a = split_axis(i);
                 const double delta = p[a] - q[a];
                 const auto [near, far] = children(i, delta);
-                if (far < heap_.size() && delta * delta <= prune2) stack.push(far);
-                if (near < heap_.size()) stack.push(near);
+                if (far < n && delta * delta <= prune2) stack.push(far);
+                if (near >= n) break;
+                i = near;
             }
-            const vec3 d = q - p;
-            const double d2 = glm::dot(d, d);
-            if (d2 <= r2 && !collect(Hit{i, 0.0, d2})) return false;
         }
         return true;
     }

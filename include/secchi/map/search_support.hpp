@@ -130,6 +130,61 @@ private:
     std::array<bool, 3> parallel_{};
 };
 
+/// Conservative interior test for along(): does the box [lo, hi] lie inside the flat-capped
+/// cylinder of in_cylinder (t in [0, t_max], perpendicular distance <= r) with a margin that
+/// covers in_cylinder's rounding? Then every record in the box is accepted by in_cylinder, and
+/// a store may report a whole subtree without testing it ("bulk accept").
+/// Exact argument: t(p) = (p - o).u is linear and |perp(p)|^2 = |M (p - o)|^2 with
+/// M = I - u u^T is convex, for any direction u (unit or not). Over the box, t lies within the
+/// corner extremes, and |perp| <= |perp(centre)| + sum_a h_a |M e_a| (triangle inequality,
+/// h the half extents). The box is accepted when t_min >= m, t_max' <= t_max - m and
+/// |perp(centre)| + sum_a h_a |M e_a| <= r - m, with m = 1e-9 (t_max + r)(1 + |u|): rounding
+/// in in_cylinder and in this test is ~1e-15 of those lengths, far inside m.
+class CylinderInterior {
+public:
+    CylinderInterior(const Ray& ray, double r2) : origin_(ray.origin), dir_(ray.direction) {
+        const double r = std::sqrt(r2);
+        const double u2 = glm::dot(ray.direction, ray.direction);
+        const double margin = 1e-9 * (ray.t_max + r) * (1.0 + std::sqrt(u2));
+        t_lo_ = margin;
+        t_hi_ = ray.t_max - margin;
+        inner_ = r - margin;
+        usable_ = inner_ > 0.0 && t_lo_ <= t_hi_ && std::isfinite(u2);
+        for (int a = 0; a < 3; ++a) {  // |M e_a| = |e_a - u_a u| = sqrt(1 - 2 u_a^2 + u_a^2 |u|^2)
+            const double ua = ray.direction[a];
+            weight_[a] = std::sqrt(std::max(0.0, 1.0 - 2.0 * ua * ua + ua * ua * u2)) * (1.0 + 1e-12);
+        }
+    }
+
+    [[nodiscard]] bool usable() const { return usable_; }
+
+    [[nodiscard]] bool contains(const vec3& lo, const vec3& hi) const {
+        const vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);  // exact for float corners
+        const vec3 d = centre - origin_;
+        const double t = glm::dot(d, dir_);
+        const double t_spread = half.x * std::abs(dir_.x) + half.y * std::abs(dir_.y) + half.z * std::abs(dir_.z);
+        if (t - t_spread < t_lo_ || t + t_spread > t_hi_) return false;
+        const vec3 perp = d - t * dir_;
+        const double spread = half.x * weight_[0] + half.y * weight_[1] + half.z * weight_[2];
+        const double reach = inner_ - spread;
+        return reach >= 0.0 && glm::dot(perp, perp) <= reach * reach;
+    }
+
+private:
+    vec3 origin_, dir_;
+    double t_lo_ = 0.0, t_hi_ = -1.0, inner_ = -1.0;
+    std::array<double, 3> weight_{};
+    bool usable_ = false;
+};
+
+/// Conservative interior test for within(): is every point of the box [lo, hi] at squared
+/// distance <= r^2 (1 - 1e-9) from p? Then rounding cannot make dot(d, d) exceed r^2 for any
+/// record inside (the rounding is ~1e-16 relative), and the subtree is accepted whole.
+inline bool box_inside_sphere(const vec3& p, double r2, const vec3& lo, const vec3& hi) {
+    const vec3 far = glm::max(glm::abs(p - lo), glm::abs(hi - p));
+    return glm::dot(far, far) <= r2 * (1.0 - 1e-9);
+}
+
 /// The k best hits by (distance2, index), kept as a bounded max-heap in the caller's vector
 /// (ties broken by the smaller index, so the result is deterministic).
 class KBest {

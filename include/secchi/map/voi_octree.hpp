@@ -85,25 +85,21 @@ public:
     /// records whose volume of influence the segment intersects (manual 3.5).
     template <Collector C>
     bool along(const Ray& ray, Radius r, C& collect) const {
-        const double r2 = r.squared();
-        const detail::PaddedSegment segment(ray, r2);
-        Stack stack;
-        if (!nodes_.empty()) stack.push(0);
-        Hit hit{};
-        while (!stack.empty()) {
-            const Node& node = nodes_[stack.pop()];
-            if (!segment.meets(lower(node), upper(node))) continue;
-            if (node.child_count > 0) {
-                push_children(node, stack);
-                continue;
-            }
-            for (std::uint32_t i = node.begin; i < node.end; ++i) {
-                if (!in_cylinder(ray, records_[i].position(), r2, hit)) continue;
-                hit.index = i;
-                if (!collect(hit)) return false;
-            }
-        }
-        return true;
+        AlongStats stats;
+        return along_impl<false>(ray, r, collect, stats);
+    }
+
+    /// What one along() query does: nodes whose padded box the segment meets, records tested
+    /// one by one at leaves, records accepted in bulk (subtrees inside the cylinder), hits.
+    struct AlongStats {
+        std::size_t nodes = 0, tested = 0, bulk = 0, hits = 0;
+    };
+    [[nodiscard]] AlongStats along_stats(const Ray& ray, Radius r) const {
+        AlongStats stats;
+        CountHits count;
+        along_impl<true>(ray, r, count, stats);
+        stats.hits = count.count;
+        return stats;
     }
 
     /// Every record at distance <= r from p.
@@ -114,7 +110,15 @@ public:
         if (!nodes_.empty()) stack.push(0);
         while (!stack.empty()) {
             const Node& node = nodes_[stack.pop()];
-            if (detail::box_distance2(p, lower(node), upper(node)) > prune2) continue;
+            const vec3 lo = lower(node), hi = upper(node);
+            if (detail::box_distance2(p, lo, hi) > prune2) continue;
+            if (detail::box_inside_sphere(p, r2, lo, hi)) {  // bulk accept: the same hits, in the same order
+                for (std::uint32_t i = node.begin; i < node.end; ++i) {
+                    const vec3 d = records_[i].position() - p;
+                    if (!collect(Hit{i, 0.0, glm::dot(d, d)})) return false;
+                }
+                continue;
+            }
             if (node.child_count > 0) {
                 push_children(node, stack);
                 continue;
@@ -129,6 +133,51 @@ public:
     }
 
 private:
+    /// along(): depth-first over the nodes whose padded box the segment meets. A node whose
+    /// box lies inside the cylinder (detail::CylinderInterior, with a rounding margin) is
+    /// reported whole: its records are one contiguous range, in the same order the
+    /// depth-first walk of its leaves would report them, with t and distance2 computed by
+    /// in_cylinder's arithmetic, so the hits are identical, value for value and in order.
+    template <bool Profile, Collector C>
+    bool along_impl(const Ray& ray, Radius r, C& collect, AlongStats& stats) const {
+        const double r2 = r.squared();
+        const detail::PaddedSegment segment(ray, r2);
+        const detail::CylinderInterior interior(ray, r2);
+        const bool bulk = interior.usable();
+        Stack stack;
+        if (!nodes_.empty()) stack.push(0);
+        Hit hit{};
+        while (!stack.empty()) {
+            const Node& node = nodes_[stack.pop()];
+            const vec3 lo = lower(node), hi = upper(node);
+            if (!segment.meets(lo, hi)) continue;
+            if constexpr (Profile) ++stats.nodes;
+            if (bulk && interior.contains(lo, hi)) {
+                if constexpr (Profile) stats.bulk += node.end - node.begin;
+                for (std::uint32_t i = node.begin; i < node.end; ++i) {
+                    const vec3 d = records_[i].position() - ray.origin;
+                    hit.t = glm::dot(d, ray.direction);
+                    const vec3 perp = d - hit.t * ray.direction;
+                    hit.distance2 = glm::dot(perp, perp);
+                    hit.index = i;
+                    if (!collect(hit)) return false;
+                }
+                continue;
+            }
+            if (node.child_count > 0) {
+                push_children(node, stack);
+                continue;
+            }
+            if constexpr (Profile) stats.tested += node.end - node.begin;
+            for (std::uint32_t i = node.begin; i < node.end; ++i) {
+                if (!in_cylinder(ray, records_[i].position(), r2, hit)) continue;
+                hit.index = i;
+                if (!collect(hit)) return false;
+            }
+        }
+        return true;
+    }
+
     struct Node {
         std::array<float, 3> lo, hi;    ///< tight box of the node's records, rounded outward
         std::uint32_t begin, end;       ///< records_[begin, end)

@@ -55,6 +55,7 @@ public:
         k_[2].resize(n);
         for (std::size_t j = 0; j < n; ++j) k_[2][j] = k_[0][j] + k_[1][j];
         for (int c = 0; c < 3; ++c) cumulative_[c] = cumulate(k_[c]);
+        detect_uniform_spacing();
     }
 
     [[nodiscard]] std::size_t components() const { return phases_.size(); }
@@ -117,8 +118,9 @@ public:
 
     /// b_i(z) into w (unnormalised mixture weights); returns b(z) = sum_i b_i(z).
     double weights(double z, std::array<double, max_components>& w) const {
+        const std::size_t j = cell(z);
         double b = 0.0;
-        for (std::size_t i = 0; i < phases_.size(); ++i) b += (w[i] = interpolate(b_i_[i], z));
+        for (std::size_t i = 0; i < phases_.size(); ++i) b += (w[i] = interpolate_in(b_i_[i], j, z));
         return b;
     }
 
@@ -153,14 +155,35 @@ private:
         return cum;
     }
 
+    /// Equally spaced nodes (the usual case: iop::uniform_depths) are found by division.
+    void detect_uniform_spacing() {
+        const std::size_t n = z_.size();
+        if (n < 2 || z_[1] <= 0.0) return;
+        const double h = z_[1];
+        for (std::size_t j = 0; j < n; ++j)
+            if (std::abs(z_[j] - static_cast<double>(j) * h) > 1e-9 * h * static_cast<double>(j + 1)) return;
+        inverse_spacing_ = 1.0 / h;
+    }
+
     /// Node interval j with z_j <= z < z_{j+1} (the last node for z beyond it; 0 above the surface).
     [[nodiscard]] std::size_t cell(double z) const {
+        if (inverse_spacing_ > 0.0) {
+            if (!(z > 0.0)) return 0;
+            const double x = z * inverse_spacing_;
+            if (x >= static_cast<double>(z_.size() - 1)) return z_.size() - 1;
+            std::size_t j = static_cast<std::size_t>(x);
+            // Division may land one node off where z sits on a node: settle by comparison.
+            if (z < z_[j]) --j;
+            else if (j + 1 < z_.size() && z >= z_[j + 1]) ++j;
+            return j;
+        }
         const auto it = std::upper_bound(z_.begin(), z_.end(), z);
         return it == z_.begin() ? 0 : static_cast<std::size_t>(it - z_.begin()) - 1;
     }
 
-    [[nodiscard]] double interpolate(const std::vector<double>& v, double z) const {
-        const std::size_t j = cell(z);
+    [[nodiscard]] double interpolate(const std::vector<double>& v, double z) const { return interpolate_in(v, cell(z), z); }
+
+    [[nodiscard]] double interpolate_in(const std::vector<double>& v, std::size_t j, double z) const {
         if (j + 1 == z_.size() || z <= z_[j]) return v[j];
         return v[j] + (v[j + 1] - v[j]) * (z - z_[j]) / (z_[j + 1] - z_[j]);
     }
@@ -187,6 +210,7 @@ private:
     std::array<std::vector<double>, 3> cumulative_;  ///< K at the nodes
     std::vector<std::vector<double>> b_i_;
     std::vector<Phase> phases_;
+    double inverse_spacing_ = 0.0;  ///< 1 / h for equally spaced nodes, else 0
 };
 
 }  // namespace secchi

@@ -177,7 +177,7 @@ PlaneParallelResult solve_stratified(const StratifiedWater<Phase>& water, const 
     std::vector<ConeAveragedPhase<Phase>> cones;
     for (const auto& p : water.phases()) cones.emplace_back(p, cfg.omega);
     using Optics = StratifiedRayOptics<StratifiedWater<Phase>, ConeAveragedPhase<Phase>>;
-    auto out = solve_plane_parallel_in<Record>(water, Optics{water, cones}, cfg);
+    auto out = solve_plane_parallel_in<Record>(water, Optics{water, cones, ImportanceLevels(cfg.transport.importance, water)}, cfg);
     out.phase_name = "mixture";
     for (const auto& p : water.phases()) out.phase_name += " " + p.name();
     return out;

@@ -2,6 +2,7 @@
 // Settings of the first pass (manual 3.3): photon budget, seed, threads, batches, detector
 // depths, and how absorption and long histories are handled.
 #include "secchi/core/error.hpp"
+#include "secchi/transport/importance.hpp"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -50,6 +51,7 @@ struct TransportSettings {
     /// map holds exactly the single-scattering source.
     unsigned max_order = 0;
     std::uint64_t block_size = 4096;    ///< photons per work unit (does not change results)
+    DepthImportance importance;         ///< depth splitting (importance.hpp); off by default
 
     void validate() const {
         require(photons > 0, "photons", photons, "must be > 0");
@@ -63,6 +65,7 @@ struct TransportSettings {
                 "must be in (0, 1]");
         require(block_size > 0, "block size", block_size, "must be > 0");
         for (double z : depths) require(z >= 0.0, "detector depth", z, "must be >= 0");
+        importance.validate();
     }
 };
 

@@ -68,7 +68,7 @@ public:
                  TransportSettings settings)
         : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(std::move(settings)),
           layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
-          continuous_(s_.absorption == AbsorptionMode::continuous) {
+          continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()), levels_(s_.importance, medium) {
         s_.validate();
     }
 
@@ -84,28 +84,49 @@ private:
         vec3 pos, dir;
         double w;
         unsigned order;
+        int level = 0;  ///< depth-importance level (importance.hpp)
+    };
+
+    /// Where a photon's stored events go: whether it stores at all, and its batch.
+    struct MapSlot {
+        bool stores;
+        std::uint8_t batch;
     };
 
     detail::BlockResult<Record> trace_block(const detail::Block& block) const {
         detail::BlockResult<Record> out;
         out.tally.assign(layers_.size(), IrradianceTally{});
-        for (std::uint64_t i = block.begin; i < block.end; ++i) trace_photon(i, out);
+        std::vector<PhotonState> pending;  // split-off photons, traced depth first
+        for (std::uint64_t i = block.begin; i < block.end; ++i) trace_photon(i, out, pending);
         return out;
     }
 
-    /// Follows photon `index` from the sun until it leaves, is absorbed or is stopped.
-    void trace_photon(std::uint64_t index, detail::BlockResult<Record>& out) const {
+    /// Follows photon `index` from the sun until it leaves, is absorbed or is stopped, and
+    /// then every photon split off it (in a fixed order, from the same random stream).
+    void trace_photon(std::uint64_t index, detail::BlockResult<Record>& out, std::vector<PhotonState>& pending) const {
         PhotonRng rng(s_.seed, index);
         PhotonState p{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_.direction(), 1.0, 0};
         out.ledger.incident += 1.0;
         if (!enter_water(p, rng, out.ledger)) return;
         const bool stores = index < s_.map_photons;
-        const auto map_batch = static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0);
+        const MapSlot slot{stores, static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0)};
+        follow(p, rng, out, slot, pending);
+        while (!pending.empty()) {
+            p = pending.back();
+            pending.pop_back();
+            follow(p, rng, out, slot, pending);
+        }
+    }
+
+    /// One photon in the water until it ends.
+    void follow(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, MapSlot slot,
+                std::vector<PhotonState>& pending) const {
         // Free paths (manual eq. 3.17) use c, or b alone when absorption is continuous.
         const Coefficient path_kind = continuous_ ? Coefficient::scattering : Coefficient::attenuation;
         const double floor_depth = slab_.floor_depth();
         const bool has_bottom = slab_.bottom().kind != BottomKind::none;
         while (true) {
+            if (importance_on_ && !change_level(p, rng, out.ledger, pending)) return;
             const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
             const double z1 = p.pos.z + p.dir.z * s;
             if (z1 < 0.0) {                               // reaches the surface from below
@@ -122,8 +143,30 @@ private:
                 continue;
             }
             fly(p, s, out);
-            if (!interact(p, rng, out, stores, map_batch)) return;
+            if (!interact(p, rng, out, slot)) return;
         }
+    }
+
+    /// Splitting (deeper level) or Russian roulette (shallower level) to the photon's
+    /// current depth-importance level. False if the photon is killed.
+    bool change_level(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, std::vector<PhotonState>& pending) const {
+        const int level = levels_.level(p.pos.z);
+        const int k = level - p.level;
+        if (k == 0) return true;
+        p.level = level;
+        const double ratio = std::ldexp(1.0, k);  // I_new / I_old
+        if (k > 0) {                              // split into 2^k photons of weight w / 2^k
+            p.w /= ratio;
+            for (int i = 1; i < (1 << std::min(k, 20)); ++i) pending.push_back(p);
+            return true;
+        }
+        if (rng.uniform() < ratio) {  // survive with probability 2^k (k < 0), weight / 2^k
+            ledger.roulette_gained += p.w / ratio - p.w;
+            p.w /= ratio;
+            return true;
+        }
+        ledger.roulette_killed += p.w;
+        return false;
     }
 
     /// Transmission through the surface from the air (Fresnel). False if the photon is lost.
@@ -192,26 +235,20 @@ private:
 
     /// An interaction in the water: absorption or scattering by the albedo, storage of the
     /// scattering event, a new direction from the phase function. False if the photon ends.
-    bool interact(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool stores,
-                  std::uint8_t map_batch) const {
+    bool interact(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, MapSlot slot) const {
         if (s_.max_order != 0 && p.order >= s_.max_order) {  // scattering-order limit (manual 3.3.8)
             out.ledger.truncated += p.w;
             return false;
         }
         const double w0 = albedo_at(medium_, p.pos.z);
-        if (continuous_) {
-            if (stores && rng.uniform() < p.w) store(p, out, map_batch);  // every interaction scatters
-        } else if (s_.absorption == AbsorptionMode::implicit_capture) {
+        if (s_.absorption == AbsorptionMode::implicit_capture) {
             out.ledger.absorbed += p.w * (1.0 - w0);
             p.w *= w0;
-            if (stores && rng.uniform() < p.w) store(p, out, map_batch);  // equal-flux storage
-        } else {
-            if (rng.uniform() >= w0) {
-                out.ledger.absorbed += p.w;
-                return false;
-            }
-            if (stores) store(p, out, map_batch);
-        }
+        } else if (s_.absorption == AbsorptionMode::analog && rng.uniform() >= w0) {
+            out.ledger.absorbed += p.w;
+            return false;
+        }  // continuous: every interaction scatters
+        if (slot.stores) store_event(p, rng, out, slot.batch);
         ++p.order;
         const double u1 = rng.uniform(), u2 = rng.uniform();
         const PhaseSample ps = medium_.sample_phase(p.pos.z, u1, u2);
@@ -219,14 +256,27 @@ private:
         return roulette(p, rng, out.ledger);
     }
 
-    void store(const PhotonState& p, detail::BlockResult<Record>& out, std::uint8_t map_batch) const {
+    /// Equal-flux storage (manual 3.3.6): the event is stored with probability w (every
+    /// record carries the flux Phi of an unweighted photon). With depth importance, the
+    /// expected number of copies is w I(z) and a record carries Phi / I(z) (importance.hpp).
+    void store_event(const PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out,
+                     std::uint8_t map_batch) const {
         const vec3 wrapped{slab_.wrap(p.pos.x), slab_.wrap(p.pos.y), p.pos.z};
-        out.records.push_back(Record::make(wrapped, p.dir, band_index{0}, map_batch));
+        const Record rec = Record::make(wrapped, p.dir, band_index{0}, map_batch);
+        if (!importance_on_) {
+            if (s_.absorption == AbsorptionMode::analog || rng.uniform() < p.w) out.records.push_back(rec);
+            return;
+        }
+        // The flux a record carries is set by its stored (rounded) depth: use the same here.
+        const double expected = p.w * levels_.factor(rec.position().z);
+        const double copies = std::floor(expected + rng.uniform());
+        for (double i = 0; i < copies; ++i) out.records.push_back(rec);
     }
 
-    /// Russian roulette on the photon's weight (its cumulative survival probability).
+    /// Russian roulette on the photon's weight (its cumulative survival probability),
+    /// relative to its importance level (w I: the weight an unsplit photon would have).
     bool roulette(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        if (s_.roulette_weight == 0.0 || p.w >= s_.roulette_weight) return true;
+        if (s_.roulette_weight == 0.0 || std::ldexp(p.w, p.level) >= s_.roulette_weight) return true;
         if (rng.uniform() < s_.roulette_survival) {
             const double w = p.w / s_.roulette_survival;
             ledger.roulette_gained += w - p.w;
@@ -287,7 +337,8 @@ private:
     CollimatedSun sun_;
     TransportSettings s_;
     IrradianceLayers layers_;
-    bool continuous_;
+    bool continuous_, importance_on_;
+    ImportanceLevels levels_;
 };
 
 }  // namespace secchi

@@ -1,0 +1,500 @@
+// search_bench: the search-structure benchmarks (a benchmark, never part of the tests).
+//   search_bench --suite build|collect|uniform|scaling|tune|all [--quick] [--md FILE] [--csv FILE]
+//                [--repeats R] [--max-records N] [--map-photons N]
+// Every figure is the median of R timed runs (spread: min-max), 1 thread.
+//  - build:   map build time and bytes per photon for the k-d tree, the nanoflann adaptor and
+//             the VOI octree at 1e5, 1e6, 1e7 records, CompactRecord and FullRecord. Records:
+//             the problem-2a light field (traced, FullRecord, converted to CompactRecord), the
+//             first N records in photon order.
+//  - collect: rays per second for vertical rays of length 8 from tau 1 through a problem-2a map,
+//             k-d tree spheres at n = 8..128 and the VOI cylinder at equal radius, with photons
+//             per ray and Lu +- SE; then at equal photons per ray (cylinder radius scaled).
+//  - uniform: search only, 1e6 uniform points in the unit cube, ~50 per sphere (the scale
+//             figures): k-d tree and nanoflann stepping at n = 32 against the VOI cylinder.
+//  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
+//             --csv writes the rows for plot_scaling.py.
+#include "baseline_stores.hpp"
+#include "secchi/io/cli.hpp"
+#include "secchi/map/brute_force.hpp"
+#include "secchi/map/kdtree.hpp"
+#include "secchi/map/nanoflann_store.hpp"
+#include "secchi/map/voi_octree.hpp"
+#include "secchi/optics/phase/petzold.hpp"
+#include "secchi/solver/plane_parallel.hpp"
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace {
+
+using namespace secchi;
+using Cone = ConeAveragedPhase<TabulatedPhase>;
+
+struct Timing {
+    double median = 0, lo = 0, hi = 0;
+};
+
+Timing time_runs(int repeats, const std::function<void()>& setup, const std::function<void()>& work) {
+    std::vector<double> t;
+    for (int i = 0; i < repeats; ++i) {
+        setup();
+        const auto t0 = std::chrono::steady_clock::now();
+        work();
+        t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return {t[t.size() / 2], t.front(), t.back()};
+}
+Timing time_runs(int repeats, const std::function<void()>& work) {
+    return time_runs(repeats, [] {}, work);
+}
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+/// "median [min-max]" of a rate derived from times: rate = amount / t.
+std::string rate_cell(const Timing& t, double amount) {
+    return fmt("%.4g", amount / t.median) + " [" + fmt("%.3g", amount / t.hi) + "-" + fmt("%.3g", amount / t.lo) + "]";
+}
+std::string time_cell(const Timing& t, double scale, const char* f = "%.3g") {
+    return fmt(f, t.median * scale) + " [" + fmt(f, t.lo * scale) + "-" + fmt(f, t.hi * scale) + "]";
+}
+
+/// The problem-2a light field (Petzold, w0 = 0.9, sun at 60 deg, n = 1.34, no bottom), as
+/// secchi_bench traces it.
+template <class Record>
+TransportResult<Record> trace_2a(std::uint64_t photons, unsigned threads) {
+    const TabulatedPhase petzold = petzold_m93();
+    const auto water = HomogeneousWater<TabulatedPhase>::from_albedo(1.0, 0.9, petzold);
+    TransportSettings s;
+    s.photons = s.map_photons = photons;
+    s.threads = threads;
+    s.absorption = AbsorptionMode::continuous;
+    s.depths = {1.0, 5.0, 10.0};
+    const Slab slab(1.0, Bottom{}, 42.0);
+    return PhotonTracer<HomogeneousWater<TabulatedPhase>, Record>(water, slab, FlatSurface(1.34), CollimatedSun(60.0), s)
+        .run();
+}
+
+/// At least n records of the 2a light field (FullRecord), in photon order, cut to n.
+std::vector<FullRecord> records_2a(std::size_t n) {
+    std::uint64_t photons = n / 7 + 1000;  // about 8.2 records per photon
+    for (;;) {
+        auto r = trace_2a<FullRecord>(photons, 2);
+        if (r.records.size() >= n) {
+            r.records.resize(n);
+            r.records.shrink_to_fit();
+            return std::move(r.records);
+        }
+        photons = photons * 3 / 2;
+    }
+}
+
+std::vector<CompactRecord> to_compact(const std::vector<FullRecord>& full, std::size_t n) {
+    std::vector<CompactRecord> out;
+    out.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) out.push_back(CompactRecord::make(full[i].pos, full[i].dir, full[i].band_, full[i].batch_));
+    return out;
+}
+std::vector<FullRecord> prefix(const std::vector<FullRecord>& full, std::size_t n) {
+    return {full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n)};
+}
+
+struct Options {
+    bool quick = false;
+    int repeats = 5;
+    std::size_t max_records = 10'000'000;
+    std::uint64_t map_photons = 800'000;
+    std::ostream* md = nullptr;
+    std::ostream* csv = nullptr;
+};
+
+void out(const Options& o, const std::string& line) {
+    std::cout << line << "\n";
+    if (o.md) *o.md << line << "\n";
+}
+
+// ---------------------------------------------------------------------------------- build
+
+template <class Store, class Record>
+void build_row(const Options& o, const char* store_name, const char* policy, const std::vector<Record>& records,
+               int repeats) {
+    std::vector<Record> copy;
+    std::size_t bytes = 0;
+    const Timing t = time_runs(
+        repeats, [&] { copy = records; },
+        [&] {
+            const Store s(std::move(copy));
+            bytes = s.memory_bytes();
+        });
+    out(o, "| " + std::string(store_name) + " | " + policy + " | " + fmt("%.0e", static_cast<double>(records.size())) +
+               " | " + time_cell(t, 1.0) + " | " + fmt("%.3g", records.size() / t.median / 1e6) + " | " +
+               fmt("%.2f", static_cast<double>(bytes) / records.size()) + " |");
+}
+
+void suite_build(const Options& o) {
+    std::vector<std::size_t> sizes;
+    for (std::size_t n : {100'000ul, 1'000'000ul, 10'000'000ul})
+        if (n <= o.max_records) sizes.push_back(n);
+    const auto full = records_2a(sizes.back());
+    out(o, "### Map build: time and bytes per photon\n");
+    out(o, "Records: the problem-2a light field (traced once in FullRecord, converted with CompactRecord::make), "
+           "the first N in photon order. Time: the store's constructor from a moved vector (copy outside the timer), "
+           "median [min-max] of " + std::to_string(o.repeats) + " runs (3 at 1e7), 1 thread. Bytes: memory_bytes() / N "
+           "(records, nodes and index arrays).\n");
+    out(o, "| store | record | N | build s, median [min-max] | M records/s | bytes/photon |");
+    out(o, "|---|---|---|---|---|---|");
+    for (std::size_t n : sizes) {
+        const int reps = n >= 10'000'000 ? 3 : o.repeats;
+        const auto compact = to_compact(full, n);
+        build_row<KdTreeStore<CompactRecord>>(o, "k-d tree", "compact", compact, reps);
+        build_row<NanoflannStore<CompactRecord>>(o, "nanoflann", "compact", compact, reps);
+        build_row<VoiOctreeStore<CompactRecord>>(o, "VOI octree", "compact", compact, reps);
+        const auto fullp = prefix(full, n);
+        build_row<KdTreeStore<FullRecord>>(o, "k-d tree", "full", fullp, reps);
+        build_row<NanoflannStore<FullRecord>>(o, "nanoflann", "full", fullp, reps);
+        build_row<VoiOctreeStore<FullRecord>>(o, "VOI octree", "full", fullp, reps);
+    }
+    out(o, "");
+}
+
+// -------------------------------------------------------------------------------- collect
+
+struct Collected {
+    Timing t;
+    double rays_per_s;
+    double photons_per_ray;
+    Estimate lu;
+};
+
+template <class Store, class Volume>
+Collected collect(const Options& o, const Store& store, const Volume& volume, const Cone& cone,
+                  const TransportResult<CompactRecord>& map, const std::vector<Ray>& rays, double radius) {
+    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics<Cone>{cone, 1.0},
+                                    map.flux_per_map_photon, map.batches, Radius(radius));
+    RadianceEstimate r;
+    const Timing t = time_runs(o.repeats, [&] { r = est.estimate(rays, 1); });
+    return {t, rays.size() / t.median, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
+}
+
+/// Search only: the collection volume's gather with a counting visitor (no radiance work).
+template <class Store, class Volume>
+std::pair<Timing, double> search_only(int repeats, const Store& store, const Volume& volume,
+                                      const std::vector<Ray>& rays, double radius) {
+    std::uint64_t count = 0;
+    const Timing t = time_runs(repeats, [&] {
+        count = 0;
+        for (const Ray& ray : rays) volume.gather(store, ray, Radius(radius), [&](std::uint32_t, double, double) { ++count; });
+    });
+    return {t, static_cast<double>(count) / rays.size()};
+}
+
+std::string lu_cell(const Estimate& e) { return fmt("%.4e", e.value) + " +- " + fmt("%.1e", e.se); }
+
+void suite_collect(const Options& o) {
+    const auto map = trace_2a<CompactRecord>(o.map_photons, 2);
+    const KdTreeStore<CompactRecord> kd(map.records);
+    const VoiOctreeStore<CompactRecord> voi(map.records);
+    const Cone cone(petzold_m93(), 0.005);
+    const auto rays = nadir_ray_grid(1.0, 8.0, 10, 1.0);
+    const double r = 0.05;
+    const double nr = static_cast<double>(rays.size());
+
+    out(o, "### Radiance collection through a problem-2a map\n");
+    out(o, "Map: " + fmt("%.3g", static_cast<double>(o.map_photons)) + " photons traced for problem 2a, " +
+               fmt("%.3g", static_cast<double>(map.records.size())) +
+               " CompactRecords stored. Rays: the 10 x 10 grid of vertical rays of length L = 8 m from tau = 1 "
+               "(nadir_ray_grid), radiance estimator (cone-averaged Petzold, omega = 0.005 sr), 1 thread; "
+               "rays/s = 100 / (median time of " + std::to_string(o.repeats) + " runs), [min-max]. "
+               "\"search only\" runs the same gather with a counting visitor (no radiance arithmetic).\n");
+    out(o, "#### At equal collection radius r = 0.05 m\n");
+    out(o, "| collection | rays/s [min-max] | search-only rays/s | photons/ray | ns per photon | Lu +- SE |");
+    out(o, "|---|---|---|---|---|---|");
+    const auto v = collect(o, voi, VoiCylinder{}, cone, map, rays, r);
+    const auto vs = search_only(o.repeats, voi, VoiCylinder{}, rays, r);
+    std::vector<Collected> k;
+    for (unsigned n : {8u, 16u, 32u, 64u, 128u}) {
+        const auto c = collect(o, kd, StepSpheres(n), cone, map, rays, r);
+        const auto s = search_only(o.repeats, kd, StepSpheres(n), rays, r);
+        k.push_back(c);
+        out(o, "| k-d tree, n = " + std::to_string(n) + " | " + rate_cell(c.t, nr) + " | " + fmt("%.4g", nr / s.first.median) +
+                   " | " + fmt("%.4g", c.photons_per_ray) + " | " + fmt("%.3g", c.t.median / nr / c.photons_per_ray * 1e9) +
+                   " | " + lu_cell(c.lu) + " |");
+    }
+    {
+        const NanoflannStore<CompactRecord> nf(map.records);
+        const auto c = collect(o, nf, StepSpheres(32), cone, map, rays, r);
+        const auto s = search_only(o.repeats, nf, StepSpheres(32), rays, r);
+        out(o, "| nanoflann, n = 32 | " + rate_cell(c.t, nr) + " | " + fmt("%.4g", nr / s.first.median) + " | " +
+                   fmt("%.4g", c.photons_per_ray) + " | " + fmt("%.3g", c.t.median / nr / c.photons_per_ray * 1e9) +
+                   " | " + lu_cell(c.lu) + " |");
+    }
+    out(o, "| VOI cylinder | " + rate_cell(v.t, nr) + " | " + fmt("%.4g", nr / vs.first.median) + " | " +
+               fmt("%.4g", v.photons_per_ray) + " | " + fmt("%.3g", v.t.median / nr / v.photons_per_ray * 1e9) + " | " +
+               lu_cell(v.lu) + " |");
+    out(o, "");
+    out(o, "VOI / k-d rays/s at equal radius: " + [&] {
+        std::string s;
+        const unsigned ns[] = {8, 16, 32, 64, 128};
+        for (std::size_t i = 0; i < k.size(); ++i)
+            s += (i ? ", " : "") + std::string("n = ") + std::to_string(ns[i]) + ": " + fmt("%.3g", v.rays_per_s / k[i].rays_per_s);
+        return s;
+    }() + ".\n");
+
+    out(o, "#### At equal photons per ray\n");
+    out(o, "For each n the VOI cylinder radius is r_c = 0.05 sqrt(P_kd(n) / P_voi(0.05)) (photons per ray scale with "
+           "the cylinder's cross-section), so the cylinder touches as many photons per ray as the n spheres of radius "
+           "0.05; the measured counts are shown. The second ratio instead widens the k-d spheres to "
+           "R_n = 0.05 (P_voi(0.05) / P_kd(n))^(1/3) so they touch as many as the cylinder at r = 0.05.\n");
+    out(o, "| n | k-d photons/ray | k-d rays/s | r_c (m) | VOI photons/ray | VOI rays/s [min-max] | VOI Lu +- SE | k-d Lu +- SE | **VOI / k-d** | R_n (m) | k-d(R_n) photons/ray | k-d(R_n) rays/s | VOI(0.05) / k-d(R_n) |");
+    out(o, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    const unsigned ns[] = {8, 16, 32, 64, 128};
+    for (std::size_t i = 0; i < k.size(); ++i) {
+        const double rc = r * std::sqrt(k[i].photons_per_ray / v.photons_per_ray);
+        const auto c = collect(o, voi, VoiCylinder{}, cone, map, rays, rc);
+        const double rn = r * std::cbrt(v.photons_per_ray / k[i].photons_per_ray);
+        const auto kw = collect(o, kd, StepSpheres(ns[i]), cone, map, rays, rn);
+        out(o, "| " + std::to_string(ns[i]) + " | " + fmt("%.4g", k[i].photons_per_ray) + " | " + fmt("%.4g", k[i].rays_per_s) +
+                   " | " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " + rate_cell(c.t, nr) + " | " +
+                   lu_cell(c.lu) + " | " + lu_cell(k[i].lu) + " | **" + fmt("%.3g", c.rays_per_s / k[i].rays_per_s) +
+                   "** | " + fmt("%.4f", rn) + " | " + fmt("%.4g", kw.photons_per_ray) + " | " + fmt("%.4g", kw.rays_per_s) +
+                   " | " + fmt("%.3g", v.rays_per_s / kw.rays_per_s) + " |");
+    }
+    out(o, "");
+}
+
+// -------------------------------------------------------------------------------- uniform
+
+void suite_uniform(const Options& o) {
+    const std::size_t n = 1'000'000;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<CompactRecord> recs;
+    recs.reserve(n);
+    for (std::size_t i = 0; i < n; ++i)
+        recs.push_back(CompactRecord::make({u(rng), u(rng), u(rng)}, {0, 0, 1}, 0, static_cast<std::uint8_t>(i % 32)));
+    const KdTreeStore<CompactRecord> kd(recs);
+    const NanoflannStore<CompactRecord> nf(recs);
+    const VoiOctreeStore<CompactRecord> voi(recs);
+    // ~50 points per sphere: 1e6 * 4/3 pi r^3 = 50.
+    const double r = std::cbrt(50.0 / (n * 4.0 / 3.0 * pi));
+    std::vector<Ray> rays;
+    for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j) rays.push_back({{0.1 + 0.08 * i + 0.004, 0.1 + 0.08 * j + 0.002, 0.0}, {0, 0, 1}, 1.0});
+    const double nr = static_cast<double>(rays.size());
+    const auto ks = search_only(o.repeats, kd, StepSpheres(32), rays, r);
+    const auto ns = search_only(o.repeats, nf, StepSpheres(32), rays, r);
+    const double rc = r * std::sqrt(ks.second / (n * pi * r * r));
+    const auto vs = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
+    const auto ve = search_only(o.repeats, voi, VoiCylinder{}, rays, r);
+    out(o, "### Search only, 1e6 uniform points (the issue's scale figures)\n");
+    out(o, "1e6 uniform CompactRecords in the unit cube; 100 vertical rays of length 1; sphere radius " + fmt("%.4f", r) +
+               " (50 points expected per sphere); the cylinder radius r_c = r sqrt(P_kd / (N pi r^2)) gives equal photons "
+               "per ray. Counting visitor, 1 thread, median [min-max] of " + std::to_string(o.repeats) + " runs.\n");
+    out(o, "| search | rays/s [min-max] | photons/ray | ratio to k-d n = 32 |");
+    out(o, "|---|---|---|---|");
+    out(o, "| k-d tree, n = 32 | " + rate_cell(ks.first, nr) + " | " + fmt("%.4g", ks.second) + " | 1 |");
+    out(o, "| nanoflann, n = 32 | " + rate_cell(ns.first, nr) + " | " + fmt("%.4g", ns.second) + " | " +
+               fmt("%.3g", ks.first.median / ns.first.median) + " |");
+    out(o, "| VOI cylinder, r_c = " + fmt("%.4f", rc) + " (equal photons) | " + rate_cell(vs.first, nr) + " | " +
+               fmt("%.4g", vs.second) + " | " + fmt("%.3g", ks.first.median / vs.first.median) + " |");
+    out(o, "| VOI cylinder, r = " + fmt("%.4f", r) + " (equal radius) | " + rate_cell(ve.first, nr) + " | " +
+               fmt("%.4g", ve.second) + " | " + fmt("%.3g", ks.first.median / ve.first.median) + " |");
+    out(o, "");
+}
+
+// -------------------------------------------------------------------------------- scaling
+
+void suite_scaling(const Options& o) {
+    std::vector<std::size_t> sizes;
+    for (double e = 4.0; e <= 7.01; e += 0.5) {
+        const auto n = static_cast<std::size_t>(std::llround(std::pow(10.0, e)));
+        if (n <= o.max_records) sizes.push_back(n);
+    }
+    const auto full = records_2a(sizes.back());
+    // Query points: the 100 ray origins at depths 1..9 (the populated, horizontally uniform field).
+    const auto rays = nadir_ray_grid(1.0, 8.0, 10, 1.0);
+    std::vector<vec3> points;
+    for (const Ray& ray : rays)
+        for (int s = 0; s < 8; ++s) points.push_back(ray.origin + (s + 0.5) * ray.direction);
+    out(o, "### Scaling: build and query cost against record count\n");
+    out(o, "Records: prefixes of one problem-2a light field (CompactRecord). Build: median of runs (5 below 1e6, 3 "
+           "above), 1 thread. Queries, 1 thread, per query: k-d tree `within` at 800 points (depths 1-9) and VOI "
+           "`along` for 100 vertical rays of length 8 (counting collector). \"fixed r\": r = 0.05 m, so k grows with N "
+           "(O(log N + k)); \"fixed k\": the radius shrinks with N (sphere r = 0.05 (N/1e7)^(-1/3), cylinder r = 0.05 "
+           "(N/1e7)^(-1/2)) so k stays about constant and the log N term shows.\n");
+    out(o, "| N | k-d build s | k-d build ns/(N log2 N) | VOI build s | VOI build ns/(N log2 N) | within us (fixed r) | k | within us (fixed k) | k | along us (fixed r) | k | along us (fixed k) | k |");
+    out(o, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    if (o.csv) *o.csv << "n,kd_build_s,voi_build_s,within_fixed_r_us,within_fixed_r_k,within_fixed_k_us,within_fixed_k_k,along_fixed_r_us,along_fixed_r_k,along_fixed_k_us,along_fixed_k_k\n";
+    for (std::size_t n : sizes) {
+        const auto recs = to_compact(full, n);
+        const int reps = n >= 1'000'000 ? 3 : 5;
+        std::vector<CompactRecord> copy;
+        const Timing kb = time_runs(reps, [&] { copy = recs; }, [&] { const KdTreeStore<CompactRecord> s(std::move(copy)); });
+        const Timing vb = time_runs(reps, [&] { copy = recs; }, [&] { const VoiOctreeStore<CompactRecord> s(std::move(copy)); });
+        const KdTreeStore<CompactRecord> kd(recs);
+        const VoiOctreeStore<CompactRecord> voi(recs);
+        auto within = [&](double r, double& k) {
+            std::size_t total = 0;
+            const Timing t = time_runs(o.repeats, [&] {
+                CountHits c;
+                for (const vec3& p : points) kd.within(p, Radius(r), c);
+                total = c.count;
+            });
+            k = static_cast<double>(total) / points.size();
+            return t.median / points.size() * 1e6;
+        };
+        auto along = [&](double r, double& k) {
+            std::size_t total = 0;
+            const Timing t = time_runs(o.repeats, [&] {
+                CountHits c;
+                for (const Ray& ray : rays) voi.along(ray, Radius(r), c);
+                total = c.count;
+            });
+            k = static_cast<double>(total) / rays.size();
+            return t.median / rays.size() * 1e6;
+        };
+        const double scale = static_cast<double>(n) / 1e7;
+        double k1, k2, k3, k4;
+        const double w1 = within(0.05, k1), w2 = within(0.05 * std::cbrt(1.0 / scale), k2);
+        const double a1 = along(0.05, k3), a2 = along(0.05 * std::sqrt(1.0 / scale), k4);
+        const double nlogn = n * std::log2(static_cast<double>(n));
+        out(o, "| " + fmt("%.3g", static_cast<double>(n)) + " | " + fmt("%.3g", kb.median) + " | " +
+                   fmt("%.3g", kb.median / nlogn * 1e9) + " | " + fmt("%.3g", vb.median) + " | " +
+                   fmt("%.3g", vb.median / nlogn * 1e9) + " | " + fmt("%.3g", w1) + " | " + fmt("%.3g", k1) + " | " +
+                   fmt("%.3g", w2) + " | " + fmt("%.3g", k2) + " | " + fmt("%.3g", a1) + " | " + fmt("%.3g", k3) + " | " +
+                   fmt("%.3g", a2) + " | " + fmt("%.3g", k4) + " |");
+        if (o.csv)
+            *o.csv << n << "," << kb.median << "," << vb.median << "," << w1 << "," << k1 << "," << w2 << "," << k2 << ","
+                   << a1 << "," << k3 << "," << a2 << "," << k4 << "\n";
+    }
+    out(o, "");
+}
+
+// ----------------------------------------------------------------------------------- tune
+
+void suite_tune(const Options& o) {
+    const auto map = trace_2a<CompactRecord>(o.map_photons, 2);
+    const auto rays = nadir_ray_grid(1.0, 8.0, 10, 1.0);
+    const double nr = static_cast<double>(rays.size());
+    const Cone cone(petzold_m93(), 0.005);
+    out(o, "### VOI octree: leaf size\n");
+    out(o, "Same problem-2a map and 100 rays as the collection table (" + fmt("%.3g", static_cast<double>(map.records.size())) +
+               " CompactRecords). Per ray (counting collector, 1 thread): nodes whose padded box the ray meets, records "
+               "tested one by one, records accepted in bulk (subtrees inside the cylinder), hits; search-only rays/s, "
+               "median of " + std::to_string(o.repeats) + " runs. r = 0.05 (equal radius) and r = 0.026 (equal photons "
+               "to k-d n = 32).\n");
+    out(o, "| leaf size | nodes | bytes/photon | build s | r | nodes/ray | tested/ray | bulk/ray | hits/ray | rays/s [min-max] |");
+    out(o, "|---|---|---|---|---|---|---|---|---|---|");
+    for (std::size_t leaf : {4ul, 8ul, 16ul, 32ul, 64ul, 128ul}) {
+        std::vector<CompactRecord> copy;
+        const Timing b = time_runs(3, [&] { copy = map.records; }, [&] { const VoiOctreeStore<CompactRecord> s(std::move(copy), leaf); });
+        const VoiOctreeStore<CompactRecord> voi(map.records, leaf);
+        for (double r : {0.05, 0.026}) {
+            typename VoiOctreeStore<CompactRecord>::AlongStats sum;
+            for (const Ray& ray : rays) {
+                const auto st = voi.along_stats(ray, Radius(r));
+                sum.nodes += st.nodes;
+                sum.tested += st.tested;
+                sum.bulk += st.bulk;
+                sum.hits += st.hits;
+            }
+            const auto so = search_only(o.repeats, voi, VoiCylinder{}, rays, r);
+            out(o, "| " + std::to_string(leaf) + " | " + std::to_string(voi.node_count()) + " | " +
+                       fmt("%.2f", static_cast<double>(voi.memory_bytes()) / voi.size()) + " | " + fmt("%.3g", b.median) +
+                       " | " + fmt("%.3f", r) + " | " + fmt("%.4g", sum.nodes / nr) + " | " + fmt("%.4g", sum.tested / nr) +
+                       " | " + fmt("%.4g", sum.bulk / nr) + " | " + fmt("%.4g", sum.hits / nr) + " | " + rate_cell(so.first, nr) + " |");
+        }
+    }
+    out(o, "");
+
+    out(o, "### Before/after the speed work (same run, same map and rays)\n");
+    out(o, "\"before\" is the stores as of git 2986986, compiled from bench/baseline_stores.hpp; ratio = after / before "
+           "rays/s (median of " + std::to_string(o.repeats) + " runs each, interleaved).\n");
+    out(o, "| figure | before rays/s | after rays/s | after / before |");
+    out(o, "|---|---|---|---|");
+    const baseline::VoiOctreeStore<CompactRecord> voi0(map.records);
+    const VoiOctreeStore<CompactRecord> voi1(map.records);
+    const baseline::KdTreeStore<CompactRecord> kd0(map.records);
+    const KdTreeStore<CompactRecord> kd1(map.records);
+    auto row = [&](const std::string& name, auto&& before, auto&& after) {
+        std::vector<double> b, a;
+        for (int i = 0; i < o.repeats; ++i) {
+            b.push_back(before());
+            a.push_back(after());
+        }
+        std::sort(b.begin(), b.end());
+        std::sort(a.begin(), a.end());
+        const double bm = b[b.size() / 2], am = a[a.size() / 2];
+        out(o, "| " + name + " | " + fmt("%.4g", nr / bm) + " | " + fmt("%.4g", nr / am) + " | " + fmt("%.3g", bm / am) + " |");
+    };
+    for (double r : {0.05, 0.026}) {
+        row("VOI cylinder search only, r = " + fmt("%.3f", r), [&] { return search_only(1, voi0, VoiCylinder{}, rays, r).first.median; },
+            [&] { return search_only(1, voi1, VoiCylinder{}, rays, r).first.median; });
+        row("VOI cylinder with the radiance estimator, r = " + fmt("%.3f", r),
+            [&] { Options one = o; one.repeats = 1; return collect(one, voi0, VoiCylinder{}, cone, map, rays, r).t.median; },
+            [&] { Options one = o; one.repeats = 1; return collect(one, voi1, VoiCylinder{}, cone, map, rays, r).t.median; });
+    }
+    row("k-d tree n = 32 search only, r = 0.05", [&] { return search_only(1, kd0, StepSpheres(32), rays, 0.05).first.median; },
+        [&] { return search_only(1, kd1, StepSpheres(32), rays, 0.05).first.median; });
+    row("k-d tree n = 32 with the radiance estimator, r = 0.05",
+        [&] { Options one = o; one.repeats = 1; return collect(one, kd0, StepSpheres(32), cone, map, rays, 0.05).t.median; },
+        [&] { Options one = o; one.repeats = 1; return collect(one, kd1, StepSpheres(32), cone, map, rays, 0.05).t.median; });
+    out(o, "");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (CommandLine::wants_help(argc, argv)) {
+        std::cout << "usage: search_bench --suite build|collect|uniform|scaling|tune|all [--quick] [--md FILE] [--csv FILE]\n"
+                     "                    [--repeats R] [--max-records N] [--map-photons N]\n";
+        return 0;
+    }
+    try {
+        const CommandLine cl(argc, argv, {"suite", "md", "csv", "repeats", "max-records", "map-photons"}, {"quick"});
+        Options o;
+        o.quick = cl.has("quick");
+        if (o.quick) {
+            o.repeats = 3;
+            o.max_records = 1'000'000;
+            o.map_photons = 200'000;
+        }
+        if (cl.has("repeats")) o.repeats = std::stoi(cl.text("repeats"));
+        if (cl.has("max-records")) o.max_records = static_cast<std::size_t>(std::stod(cl.text("max-records")));
+        if (cl.has("map-photons")) o.map_photons = static_cast<std::uint64_t>(std::stod(cl.text("map-photons")));
+        std::ofstream md, csv;
+        if (cl.has("md")) {
+            md.open(cl.text("md"));
+            o.md = &md;
+        }
+        if (cl.has("csv")) {
+            csv.open(cl.text("csv"));
+            o.csv = &csv;
+        }
+        const std::string suite = cl.text("suite", "all");
+        if (suite != "all" && suite != "build" && suite != "collect" && suite != "uniform" && suite != "scaling" && suite != "tune")
+            throw input_error("search_bench: --suite must be build, collect, uniform, scaling, tune or all");
+        if (suite == "all" || suite == "collect") suite_collect(o);
+        if (suite == "all" || suite == "uniform") suite_uniform(o);
+        if (suite == "all" || suite == "build") suite_build(o);
+        if (suite == "all" || suite == "scaling") suite_scaling(o);
+        if (suite == "all" || suite == "tune") suite_tune(o);
+        return 0;
+    } catch (const input_error& e) {
+        std::cerr << "search_bench: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "search_bench: " << e.what() << "\n";
+        return 2;
+    }
+}

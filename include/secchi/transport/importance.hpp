@@ -1,0 +1,96 @@
+#pragma once
+// Depth importance: geometric splitting and Russian roulette between depth levels, the
+// standard variance reduction for deep penetration (Spanier & Gelbard 1969; Lux & Koblinger
+// 1991, ch. 7), so that deep detectors and the deep photon map keep photons.
+//
+// Importance I(z) = 2^L(z), with the level
+//     L(z) = floor( tau_a(z) / (mu_i ln 2) )                          for z <= z_max,
+//     L(z) = L(z_max) - floor( (tau_a(z) - tau_a(z_max)) / (mu_i ln 2) )  below,
+// tau_a(z) = int_0^z a dz': I grows like exp(tau_a / mu_i) down to z_max, like the inverse of
+// the diffuse light, whose weight decays as exp(-tau_a / mu) along paths of mean cosine mu
+// (continuous absorption), and falls again at the same rate below z_max, where nothing is
+// measured: photons that sink below the deepest detector are rouletted instead of being
+// followed, split, through the deep water that only returns a little light.
+//  - A photon of weight w moving into a deeper level (L -> L + k) is split into 2^k photons of
+//    weight w / 2^k; moving up (L -> L - k) it survives Russian roulette with probability
+//    2^-k at weight w 2^k. Expected weight is conserved: every detector stays unbiased.
+//  - The photon map stores a scattering event with probability w I(z) (copies for w I > 1),
+//    and a stored photon carries the flux Phi / I(z): expected stored flux w Phi, as
+//    without importance, but with I(z) times more photons at depth.
+//  - Roulette for low weights acts on w I (the photon's weight relative to its level).
+// mu_i = 0 turns it off (I = 1 everywhere): the default, and what problems 1, 2, 6 use.
+#include "secchi/core/error.hpp"
+#include "secchi/optics/medium.hpp"
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace secchi {
+
+class ImportanceLevels;
+
+struct DepthImportance {
+    double cosine = 0.0;     ///< mu_i; 0 = off
+    double max_depth = 0.0;  ///< z_max (m): the importance is largest there (the deepest detector)
+
+    [[nodiscard]] bool enabled() const { return cosine > 0.0; }
+
+    void validate() const {
+        require(std::isfinite(cosine) && cosine >= 0.0 && cosine <= 1.0, "importance cosine", cosine,
+                "must be in [0, 1] (0 = off)");
+        require(std::isfinite(max_depth) && max_depth >= 0.0, "importance depth (m)", max_depth, "must be >= 0");
+    }
+
+    /// The level boundaries in a medium (what the transport and the estimator both use).
+    template <Medium M>
+    [[nodiscard]] ImportanceLevels levels(const M& medium) const;
+};
+
+/// L(z) for one medium: the depths where tau_a crosses multiples of mu_i ln 2 (above z_max,
+/// where the level rises) and below z_max (where it falls), found once by the medium's exact
+/// inverse of the optical depth; level(z) is then a search among a few depths.
+class ImportanceLevels {
+public:
+    ImportanceLevels() = default;  ///< off: level 0 everywhere
+    template <Medium M>
+    ImportanceLevels(const DepthImportance& imp, const M& medium) : max_depth_(imp.max_depth) {
+        if (!imp.enabled()) return;
+        const double step = imp.cosine * std::numbers::ln2;
+        const double tau_max = medium.optical_path(Coefficient::absorption, 0.0, 1.0, imp.max_depth);
+        for (int l = 1; l * step <= tau_max; ++l)
+            rising_.push_back(medium.distance_to(Coefficient::absorption, 0.0, 1.0, l * step));
+        for (int l = 1; l < 64; ++l) {  // falling: tau_a(z) - tau_max = l step below z_max
+            const double z = imp.max_depth + medium.distance_to(Coefficient::absorption, imp.max_depth, 1.0, l * step);
+            if (!std::isfinite(z)) break;
+            falling_.push_back(z);
+        }
+        enabled_ = true;
+    }
+
+    [[nodiscard]] bool enabled() const { return enabled_; }
+
+    [[nodiscard]] int level(double z) const {
+        if (!enabled_) return 0;
+        const auto count = [z](const std::vector<double>& v) {
+            return static_cast<int>(std::upper_bound(v.begin(), v.end(), z) - v.begin());
+        };
+        if (z <= max_depth_) return count(rising_);
+        return static_cast<int>(rising_.size()) - count(falling_);
+    }
+
+    /// I(z) = 2^L(z).
+    [[nodiscard]] double factor(double z) const { return std::ldexp(1.0, level(z)); }
+
+private:
+    bool enabled_ = false;
+    double max_depth_ = 0.0;
+    std::vector<double> rising_, falling_;
+};
+
+template <Medium M>
+ImportanceLevels DepthImportance::levels(const M& medium) const {
+    return ImportanceLevels(*this, medium);
+}
+
+}  // namespace secchi
