@@ -11,6 +11,7 @@
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/solver/plane_parallel.hpp"
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -66,8 +67,8 @@ struct CollectionFigures {
 
 template <class Store, class Volume, class Cone>
 CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, double flux, unsigned batches,
-                          const std::vector<Ray>& rays, unsigned threads, int repeats) {
-    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics<Cone>{cone, 1.0}, flux, batches, Radius(0.05));
+                          const std::vector<Ray>& rays, unsigned threads, int repeats, double radius = 0.05) {
+    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics<Cone>{cone, 1.0}, flux, batches, Radius(radius));
     RadianceEstimate r;
     const double t = median_seconds(repeats, [&] { r = est.estimate(rays, threads); });
     return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
@@ -109,6 +110,12 @@ int main(int argc, char** argv) {
         const auto k1 = collect(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
         const auto v1 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
         const auto v2 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 2, repeats);
+        // At equal photons per ray: the cylinder radius scaled so it touches as many photons
+        // per ray as the 32 spheres (photons per ray scale with the cross-section).
+        const double r_equal = 0.05 * std::sqrt(k1.photons_per_ray / v1.photons_per_ray);
+        const auto ve = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats, r_equal);
+        fig["voi_rays_per_s_equal_photons"] = ve.rays_per_s;
+        fig["voi_speedup_vs_kd32_equal_photons"] = ve.rays_per_s / k1.rays_per_s;
         fig["kd_rays_per_s"] = k1.rays_per_s;
         fig["voi_rays_per_s"] = v1.rays_per_s;
         fig["voi_speedup_vs_kd32"] = v1.rays_per_s / k1.rays_per_s;
@@ -117,6 +124,8 @@ int main(int argc, char** argv) {
         std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", map.records.size());
         std::printf("  k-d n=32: %.3g photons/ray, Lu %.4e +- %.1e\n", k1.photons_per_ray, k1.lu.value, k1.lu.se);
         std::printf("  VOI     : %.3g photons/ray, Lu %.4e +- %.1e\n", v1.photons_per_ray, v1.lu.value, v1.lu.se);
+        std::printf("  VOI r=%.4f (equal photons): %.3g photons/ray, Lu %.4e +- %.1e\n", r_equal, ve.photons_per_ray,
+                    ve.lu.value, ve.lu.se);
         for (const auto& [k, v] : fig) std::printf("%-32s %.4g\n", k.c_str(), v);
         if (cl.has("json")) {
             std::ofstream os(cl.text("json"));

@@ -252,11 +252,7 @@ std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (CommandLine::wants_help(argc, argv)) {
-        std::cout << usage;
-        return 0;
-    }
-    try {
+    return run_program(argc, argv, "canonical", usage, [&] {
         const CommandLine cl(argc, argv,
                              {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material",
                               "profile-csv", "importance-cosine"},
@@ -290,8 +286,5 @@ int main(int argc, char** argv) {
         print_dirsig_comparison(entries);
         if (!json.empty()) write_json(entries, seconds, json);
         return failures == 0 ? 0 : 1;
-    } catch (const input_error& e) {
-        std::cerr << "canonical: " << e.what() << "\n" << usage;
-        return 2;
-    }
+    });
 }

@@ -115,11 +115,7 @@ void run(const secchi::CommandLine& cl, std::ostream& os) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (secchi::CommandLine::wants_help(argc, argv)) {
-        std::cout << usage;
-        return 0;
-    }
-    try {
+    return secchi::run_program(argc, argv, "iop_profile", usage, [&] {
         const secchi::CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "seed", "out"}, {"problem3"});
         std::ostringstream csv;  // the whole table first: an error midway leaves no partial output
         run(cl, csv);
@@ -132,8 +128,5 @@ int main(int argc, char** argv) {
         file.close();
         if (!file) secchi::reject("--out", cl.text("out"), "cannot be written");
         return 0;
-    } catch (const secchi::input_error& e) {
-        std::cerr << "iop_profile: " << e.what() << "\n" << usage;
-        return 2;
-    }
+    });
 }

@@ -2,16 +2,24 @@
 // manual's chapter-5 models, or read from a DIRSIG material file, sampled at one wavelength
 // into the transport's depth profile, and solved (both passes) for Ed, Eou and Lu.
 //   natural_water [MATERIAL_FILE]      (default: the composed medium below)
+#include <secchi/io/cli.hpp>
 #include <secchi/io/material_medium.hpp>
 #include <secchi/optics/iop/absorption.hpp>
 #include <secchi/optics/iop/scattering.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 #include <cstdio>
-#include <iostream>
+
+namespace {
+constexpr const char* usage = R"(usage: natural_water [MATERIAL_FILE]
+Solves a Case-1 water column at 490 nm (sun at 60 deg, flat surface, black sky, infinitely
+deep) for Ed, Eou and Lu at 1, 5, 10 and 20 m: the medium composed in this file, or the
+IOP_MODEL of MATERIAL_FILE (DIRSIG material-file syntax, e.g. examples/materials/*.mat).
+)";
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace secchi;
-    try {
+    return run_program(argc, argv, "natural_water", usage, [&] {
         const double wavelength = 490.0;  // nm
         const auto depths = iop::uniform_depths(/*max m=*/100.0, /*spacing m=*/0.05);
         // Compile time: pure water plus chlorophyll-bearing particles (manual eq. 5.3-5.6).
@@ -38,8 +46,5 @@ int main(int argc, char** argv) {
             std::printf("\n");
         }
         return 0;
-    } catch (const input_error& e) {
-        std::cerr << "natural_water: " << e.what() << "\n";
-        return 2;
-    }
+    });
 }

@@ -95,11 +95,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (secchi::CommandLine::wants_help(argc, argv)) {
-        std::cout << usage;
-        return 0;
-    }
-    try {
+    return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
                                      {"phase", "albedo", "sun-zenith", "water-index", "bottom-depth", "bottom-albedo",
                                       "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
@@ -111,8 +107,5 @@ int main(int argc, char** argv) {
         print_table(result);
         if (cl.has("json")) write_json(result, cl.text("json"));
         return 0;
-    } catch (const secchi::input_error& e) {
-        std::cerr << "slab: " << e.what() << "\n" << usage;
-        return 2;
-    }
+    });
 }

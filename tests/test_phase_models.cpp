@@ -4,6 +4,7 @@
 // and the run-time variant AnyPhase. For each: normalisation, pdf == eval, a chi-square
 // sampling histogram (manual 7.3.4, spfhist), moments, and invalid input.
 #include <catch2/catch.hpp>
+#include "phase_checks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,103 +26,10 @@
 #include "secchi/solver/phase_choice.hpp"
 
 using namespace secchi;
+using namespace secchi::test;
 using Catch::Matchers::Contains;
 
 namespace {
-
-// The histogram helpers follow tests/test_phase.cpp (anonymous there, so repeated here).
-
-/// 99.9 % quantile of chi-square with dof degrees of freedom (Wilson and Hilferty 1931).
-double chi2_quantile_999(int dof) {
-    const double z = 3.090232306167813, h = 2.0 / (9.0 * dof);
-    return dof * std::pow(1.0 - h + z * std::sqrt(h), 3);
-}
-
-template <class P>
-auto pdf_of_psi(const P& p) {
-    return [&p](double psi) { return static_cast<double>(p.pdf(std::cos(psi))); };
-}
-
-/// Bin edges in psi, equiprobable under the pdf (numerical CDF on a fine grid, inverted
-/// linearly); the expected counts are integrated exactly over whatever edges result.
-template <class P>
-std::vector<double> equiprobable_edges(const P& p, int bins) {
-    const auto bps = breakpoints_of(p);
-    std::vector<double> grid{0.0};
-    for (int i = 0; i <= 2000; ++i) grid.push_back(1e-7 * std::pow(1e6, i / 2000.0));
-    for (int i = 1; i <= 2000; ++i) grid.push_back(0.1 + (pi - 0.1) * i / 2000.0);
-    std::vector<double> cdf{0.0};
-    for (std::size_t j = 0; j + 1 < grid.size(); ++j)
-        cdf.push_back(cdf.back() + integrate_solid_angle(pdf_of_psi(p), grid[j], grid[j + 1], bps));
-    std::vector<double> edges{0.0};
-    std::size_t j = 0;
-    for (int k = 1; k < bins; ++k) {
-        const double target = cdf.back() * k / bins;
-        while (cdf[j + 1] < target) ++j;
-        const double w = (target - cdf[j]) / (cdf[j + 1] - cdf[j]);
-        edges.push_back(grid[j] + w * (grid[j + 1] - grid[j]));
-    }
-    edges.push_back(pi);
-    return edges;
-}
-
-/// chi-square of 10^6 samples in 200 equiprobable bins of psi and 100 bins of phi, against
-/// the 99.9 % quantiles; also checks every sample's range and pdf.
-template <class P>
-void check_sampling(const P& p, std::uint64_t seed) {
-    const int n = 1000000, bins = 200, phi_bins = 100;
-    const auto edges = equiprobable_edges(p, bins);
-    const auto bps = breakpoints_of(p);
-    std::vector<double> expected, observed(bins, 0.0), phi_obs(phi_bins, 0.0);
-    for (int k = 0; k < bins; ++k)
-        expected.push_back(n * integrate_solid_angle(pdf_of_psi(p), edges[k], edges[k + 1], bps));
-    PhotonRng rng(seed, 0);
-    bool valid = true;
-    for (int i = 0; i < n; ++i) {
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        const PhaseSample s = p.sample(u1, u2);
-        valid = valid && s.cos_psi >= -1.0 && s.cos_psi <= 1.0 && s.phi >= 0.0 && s.phi < two_pi &&
-                s.pdf == p.pdf(s.cos_psi) && std::isfinite(s.pdf) && s.pdf > 0.0;
-        const auto k = std::upper_bound(edges.begin(), edges.end(), std::acos(s.cos_psi)) - edges.begin() - 1;
-        observed[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(k, 0, bins - 1))] += 1.0;
-        phi_obs[std::min<std::size_t>(static_cast<std::size_t>(s.phi / two_pi * phi_bins), phi_bins - 1)] += 1.0;
-    }
-    double chi2 = 0.0, chi2_phi = 0.0;
-    for (int k = 0; k < bins; ++k) chi2 += std::pow(observed[k] - expected[k], 2) / expected[k];
-    for (int k = 0; k < phi_bins; ++k) chi2_phi += std::pow(phi_obs[k] - 0.01 * n, 2) / (0.01 * n);
-    CHECK(valid);
-    INFO("chi2(psi) = " << chi2 << ", chi2(phi) = " << chi2_phi);
-    CHECK(chi2 < chi2_quantile_999(bins - 1));
-    CHECK(chi2_phi < chi2_quantile_999(phi_bins - 1));
-}
-
-/// Normalisation, pdf == eval (finite, positive) and the sampling histogram.
-template <class P>
-void check_phase_function(const P& p, std::uint64_t seed) {
-    INFO(p.name());
-    CHECK(std::abs(phase_moments(p).normalisation - 1.0) < 1e-6);
-    for (double mu : {-1.0, -0.99999, -0.5, 0.0, 0.3, 0.9, 0.999, 0.99999999, 1.0 - 1e-15, 1.0}) {
-        CHECK(p.pdf(mu) == p.eval(mu));
-        CHECK(std::isfinite(p.eval(mu)));
-        CHECK(p.eval(mu) > 0.0);
-    }
-    check_sampling(p, seed);
-}
-
-/// The message of the input_error f() throws ("" if none).
-template <class F>
-std::string input_error_message(F&& f) {
-    try {
-        f();
-    } catch (const input_error& e) {
-        return e.what();
-    }
-    return "";
-}
-
-double hg_backscatter(double g) {
-    return g == 0.0 ? 0.5 : (1.0 - g) / (2.0 * g) * ((1.0 + g) / std::sqrt(1.0 + g * g) - 1.0);
-}
 
 /// Probability that cos(psi) < mu, numerically from eval.
 template <class P>

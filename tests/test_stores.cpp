@@ -404,3 +404,100 @@ TEMPLATE_TEST_CASE("concurrent queries from 2 threads match sequential ones", "[
     REQUIRE(first == sequential);
     REQUIRE(second == sequential);
 }
+
+// ---- The speed work's code paths: bulk-accepted subtrees (VOI octree) and the descending
+// k-d tree walk must report exactly the oracle's records, in the structure's fixed order.
+
+TEST_CASE("VOI octree: bulk-accepted subtrees report the oracle's records in record order", "[stores][octree][bulk]") {
+    // Small leaves and radii up to the box size: whole subtrees fall inside the cylinder or sphere.
+    const auto records = make_records<FullRecord>(Layout::uniform, 20000, 101);
+    const BruteForceStore<FullRecord> brute(records);
+    for (const std::size_t leaf : {1u, 8u, 32u, 128u}) {
+        const VoiOctreeStore<FullRecord> store(records, leaf);
+        PhotonRng rng(102, leaf);
+        std::size_t bulk = 0;
+        for (int i = 0; i < 40; ++i) {
+            Query q{};
+            q.r = 0.05 + 0.5 * rng.uniform();
+            q.point = {rng.uniform(), rng.uniform(), 3.0 * rng.uniform()};
+            q.ray.origin = {rng.uniform(), rng.uniform(), 3.0 * rng.uniform()};
+            q.ray.direction = i % 2 == 0 ? axis_direction(rng.bits()) : random_unit(rng);
+            if (i % 5 == 4) q.ray.direction *= 1.0 + 1e-7;  // a little off unit length
+            q.ray.t_max = 3.0 * rng.uniform();
+            INFO("leaf " << leaf << " query " << i << " r " << q.r);
+            bulk += store.along_stats(q.ray, Radius(q.r)).bulk;
+            REQUIRE(compare(run_along(store, q), run_along(brute, q)) == "");
+            REQUIRE(compare(run_within(store, q), run_within(brute, q)) == "");
+            // Records are laid out in depth-first leaf order and the walk visits children in
+            // octant order, so hits (bulk or tested) come in increasing record index.
+            for (const bool ray_query : {true, false}) {
+                CollectAll all;
+                if (ray_query) store.along(q.ray, Radius(q.r), all);
+                else store.within(q.point, Radius(q.r), all);
+                for (std::size_t k = 1; k < all.hits.size(); ++k) REQUIRE(all.hits[k - 1].index < all.hits[k].index);
+            }
+        }
+        INFO("leaf " << leaf);
+        REQUIRE(bulk > 0);  // the bulk path was exercised
+    }
+}
+
+TEST_CASE("CylinderInterior accepts only boxes whose every point in_cylinder accepts", "[stores][bulk]") {
+    PhotonRng rng(103, 0);
+    std::size_t accepted = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const double far = i % 4 == 0 ? 1000.0 : 0.0;
+        vec3 dir = i % 3 == 0 ? axis_direction(rng.bits()) : random_unit(rng);
+        if (i % 7 == 0) dir *= 1.0 + 1e-9 * (rng.uniform() - 0.5);
+        const Ray ray{vec3(rng.uniform(), rng.uniform(), rng.uniform()) - far * dir, dir, far + 2.0 * rng.uniform()};
+        const double r = 0.01 + 0.3 * rng.uniform();
+        const vec3 centre = ray.origin + (far + rng.uniform() * 2.0) * dir + 0.2 * r * random_unit(rng);
+        const vec3 half(0.3 * r * rng.uniform(), 0.3 * r * rng.uniform(), 0.3 * r * rng.uniform());
+        // float corners, as the octree stores them
+        const vec3 lo(static_cast<float>(centre.x - half.x), static_cast<float>(centre.y - half.y), static_cast<float>(centre.z - half.z));
+        const vec3 hi(static_cast<float>(centre.x + half.x), static_cast<float>(centre.y + half.y), static_cast<float>(centre.z + half.z));
+        const detail::CylinderInterior interior(ray, r * r);
+        if (!interior.usable() || !interior.contains(lo, hi)) continue;
+        ++accepted;
+        Hit hit{};
+        for (unsigned corner = 0; corner < 8; ++corner) {
+            const vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+            REQUIRE(in_cylinder(ray, p, r * r, hit));
+        }
+        for (int k = 0; k < 4; ++k) {
+            const vec3 p = lo + vec3(rng.uniform(), rng.uniform(), rng.uniform()) * (hi - lo);
+            REQUIRE(in_cylinder(ray, p, r * r, hit));
+        }
+    }
+    REQUIRE(accepted > 1000);
+}
+
+namespace {
+/// Jensen's recursive locate_photons: the order the iterative k-d tree walk must reproduce.
+template <class Store>
+void locate_recursive(const Store& s, std::size_t i, const vec3& p, double r2, std::vector<std::uint32_t>& out) {
+    if (i >= s.size()) return;
+    const vec3 q = s.records()[i].position();
+    const vec3 d = q - p;
+    if (glm::dot(d, d) <= r2) out.push_back(static_cast<std::uint32_t>(i));
+    if (!s.is_internal(i)) return;
+    const int a = s.split_axis(i);
+    const double delta = p[a] - q[a];
+    const std::size_t near = delta < 0.0 ? 2 * i + 1 : 2 * i + 2, far = delta < 0.0 ? 2 * i + 2 : 2 * i + 1;
+    locate_recursive(s, near, p, r2, out);
+    if (delta * delta <= r2) locate_recursive(s, far, p, r2, out);
+}
+}  // namespace
+
+TEST_CASE("k-d tree within reports in the recursive locate_photons order", "[stores][kdtree]") {
+    const auto records = make_records<CompactRecord>(Layout::clustered, 20000, 104);
+    const KdTreeStore<CompactRecord> store(records);
+    for (const Query& q : make_queries(Layout::clustered, 100, 105)) {
+        CollectAll all;
+        store.within(q.point, Radius(q.r), all);
+        std::vector<std::uint32_t> got, want;
+        for (const Hit& h : all.hits) got.push_back(h.index);
+        locate_recursive(store, 0, q.point, q.r * q.r, want);
+        REQUIRE(got == want);
+    }
+}

@@ -35,6 +35,16 @@ template <class Value>
     throw input_error(msg.str());
 }
 
+/// "name[i]", the name of an array element in messages (built by appending: g++ 12 at -O3
+/// flags "literal" + std::string with a false -Wrestrict).
+inline std::string indexed_name(std::string_view name, std::size_t i) {
+    std::string s(name);
+    s += '[';
+    s += std::to_string(i);
+    s += ']';
+    return s;
+}
+
 /// Checks a condition on an input value; throws input_error naming it otherwise.
 template <class Value>
 void require(bool ok, std::string_view parameter, const Value& value, std::string_view reason,

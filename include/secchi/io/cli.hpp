@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -76,5 +77,22 @@ private:
     }
     std::map<std::string, std::string> values_;
 };
+
+/// A program's main around body() (which returns the exit status): --help / -h prints the
+/// usage and exits 0; an input_error prints "<name>: <message>" and the usage on stderr and
+/// exits 2 (the programs' command-line contract).
+template <class Body>
+int run_program(int argc, char** argv, std::string_view name, std::string_view usage, Body&& body) {
+    if (CommandLine::wants_help(argc, argv)) {
+        std::cout << usage;
+        return 0;
+    }
+    try {
+        return body();
+    } catch (const input_error& e) {
+        std::cerr << name << ": " << e.what() << "\n" << usage;
+        return 2;
+    }
+}
 
 }  // namespace secchi

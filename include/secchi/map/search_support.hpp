@@ -87,6 +87,11 @@ inline double pruning_pad(const Ray& ray, double r2) {
 class PaddedSegment {
 public:
     PaddedSegment(const Ray& ray, double r2) : origin_(ray.origin), t_max_(ray.t_max), pad_(pruning_pad(ray, r2)) {
+        // The segment's bounding box padded by pad: the rounding of the far end point is
+        // ~1e-16 of the segment's length, far inside the pad's 1e-9 margin.
+        const vec3 end = ray.origin + ray.t_max * ray.direction;
+        reach_lo_ = glm::min(ray.origin, end) - vec3(pad_);
+        reach_hi_ = glm::max(ray.origin, end) + vec3(pad_);
         for (int a = 0; a < 3; ++a) {
             // A direction component below 1e-300 moves the segment by < 1e-300 t_max along
             // that axis, far inside the pad's margin: treat it as parallel (no overflow).
@@ -116,8 +121,13 @@ public:
         return {t0, t1};
     }
 
-    /// Does the segment meet the box [lo - pad, hi + pad]?
+    /// Does the segment meet the box [lo - pad, hi + pad]? First the cheap necessary test
+    /// (the box overlaps the padded segment's bounding box: six comparisons, exact for
+    /// axis-parallel rays), then the slab test.
     [[nodiscard]] bool meets(const vec3& lo, const vec3& hi) const {
+        if (!((lo.x <= reach_hi_.x) & (hi.x >= reach_lo_.x) & (lo.y <= reach_hi_.y) & (hi.y >= reach_lo_.y) &
+              (lo.z <= reach_hi_.z) & (hi.z >= reach_lo_.z)))
+            return false;
         const auto [t0, t1] = clip(lo, hi);
         return t0 <= t1;
     }
@@ -127,6 +137,7 @@ private:
     double t_max_;
     double pad_;
     vec3 inv_dir_{};
+    vec3 reach_lo_{}, reach_hi_{};
     std::array<bool, 3> parallel_{};
 };
 
@@ -159,15 +170,16 @@ public:
     [[nodiscard]] bool usable() const { return usable_; }
 
     [[nodiscard]] bool contains(const vec3& lo, const vec3& hi) const {
-        const vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);  // exact for float corners
-        const vec3 d = centre - origin_;
+        const vec3 half = 0.5 * (hi - lo);  // float corners: exact, or within an ulp (covered by the margin)
+        const double spread = half.x * weight_[0] + half.y * weight_[1] + half.z * weight_[2];
+        const double reach = inner_ - spread;
+        if (reach < 0.0) return false;  // too wide to fit: the common quick answer
+        const vec3 d = 0.5 * (lo + hi) - origin_;
         const double t = glm::dot(d, dir_);
         const double t_spread = half.x * std::abs(dir_.x) + half.y * std::abs(dir_.y) + half.z * std::abs(dir_.z);
         if (t - t_spread < t_lo_ || t + t_spread > t_hi_) return false;
         const vec3 perp = d - t * dir_;
-        const double spread = half.x * weight_[0] + half.y * weight_[1] + half.z * weight_[2];
-        const double reach = inner_ - spread;
-        return reach >= 0.0 && glm::dot(perp, perp) <= reach * reach;
+        return glm::dot(perp, perp) <= reach * reach;
     }
 
 private:

@@ -8,7 +8,7 @@
 //
 // Build: the root is the bounding box of all positions; a node is divided into 8 equal octants
 // of its cell ("divided into eight equal sized volumes by three planes", 3.5) until it holds
-// <= leaf_size records (default 32, a constructor parameter), reaches depth max_depth (20), or
+// <= leaf_size records (default 128, a constructor parameter), reaches depth max_depth (20), or
 // all its records share one position (no division can separate them). Empty octants get no
 // node. The records are reordered (a stable counting sort by octant per division) so every
 // node's records are one contiguous range [begin, end) of records(). Nodes live in one flat
@@ -18,14 +18,39 @@
 //
 // Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
 // radius (plus a rounding margin, search_support.hpp's detail::pruning_pad), applied at query time,
-// so one tree serves any radius.
+// so one tree serves any radius. (Padding at build time would fix the radius in the tree and
+// save one subtraction per box test; the boxes are tight, so the padded box is as small as a
+// box around the records' spheres can be.)
 //
 // Queries: iterative depth-first traversal with a fixed-size stack (no recursion, no
-// allocation), children visited in fixed octant order (x, then y, then z bit), so the order
-// of the hits is deterministic.
+// allocation, no locking), children visited in fixed octant order (x, then y, then z bit).
+// Because each node's records are the concatenation of its children's in octant order, the
+// walk reports hits in increasing record index: the order is deterministic, and a subtree can
+// be reported as one contiguous range without changing it.
 //  - along(ray, r): skip a node whose box padded by r the segment [0, t_max] misses (slab
-//    test); at a leaf, test each record with in_cylinder.
-//  - within(p, r): skip a node whose box is farther than r from p.
+//    test). A node whose box lies inside the cylinder (detail::CylinderInterior: a
+//    conservative test with a rounding margin) is accepted whole ("bulk accept"): its records
+//    are reported without the per-record cylinder test, with t and distance2 computed by
+//    in_cylinder's arithmetic, so the hits are the same values in the same order. At a leaf,
+//    each record is tested with in_cylinder.
+//  - within(p, r): skip a node whose box is farther than r from p; accept whole a node whose
+//    farthest corner is within r (1 - 1e-9) of p.
+//  - along_stats(ray, r): the counts of one along() query (nodes, records tested, records
+//    accepted in bulk, hits), for tuning.
+//
+// Tuning (bench/search_bench --suite tune: a problem-2a map of 6.5e6 CompactRecords, 100
+// vertical rays of length 8, r = 0.05 and 0.026; bench/RESULTS_search.md). At a leaf the
+// records are filtered without a branch per record (filter()), so a leaf costs little more
+// than streaming its records, while every node costs a box test and, once the map outgrows
+// the cache, a likely miss. Search time per ray therefore falls with the leaf size up to 128:
+// relative to 128, leaves of 4, 8, 16, 32, 64 run at about 0.4, 0.5, 0.55, 0.7, 0.9 of its
+// rays/s, and memory falls too (about 42, 34, 26, 20, 19, 17 bytes per CompactRecord at 4 ...
+// 128). 128 is the default. (With a branch per record, as first built, 32-128 were level.)
+// Bulk accept pays when the radius is large against the leaves' boxes (at r = 0.05 about 40 %
+// of the hits are accepted in bulk with leaf 128) and costs one cheap test per node otherwise.
+// Software prefetching of the children and a depth-first node layout were tried and measured
+// no faster. Changing the leaf size reorders the records, so sums over hits change in their
+// last bits (not in value beyond rounding).
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
@@ -62,7 +87,7 @@ template <PhotonRecord Record>
 class VoiOctreeStore {
 public:
     using record_type = Record;
-    static constexpr std::size_t default_leaf_size = 32;
+    static constexpr std::size_t default_leaf_size = 128;
     static constexpr int max_depth = 20;
 
     explicit VoiOctreeStore(std::vector<Record> records, std::size_t leaf_size = default_leaf_size)
@@ -139,29 +164,27 @@ private:
     /// depth-first walk of its leaves would report them, with t and distance2 computed by
     /// in_cylinder's arithmetic, so the hits are identical, value for value and in order.
     template <bool Profile, Collector C>
-    bool along_impl(const Ray& ray, Radius r, C& collect, AlongStats& stats) const {
+    bool along_impl(const Ray& ray_in, Radius r, C& collect, AlongStats& stats) const {
+        // Local copies: the collector may write doubles (the estimator's sums), which the
+        // compiler would otherwise have to assume alias the ray and reload every record.
+        const Ray ray = ray_in;
         const double r2 = r.squared();
         const detail::PaddedSegment segment(ray, r2);
         const detail::CylinderInterior interior(ray, r2);
         const bool bulk = interior.usable();
+        const Record* const records = records_.data();
+        const Node* const nodes = nodes_.data();
         Stack stack;
         if (!nodes_.empty()) stack.push(0);
         Hit hit{};
         while (!stack.empty()) {
-            const Node& node = nodes_[stack.pop()];
+            const Node& node = nodes[stack.pop()];
             const vec3 lo = lower(node), hi = upper(node);
             if (!segment.meets(lo, hi)) continue;
             if constexpr (Profile) ++stats.nodes;
             if (bulk && interior.contains(lo, hi)) {
                 if constexpr (Profile) stats.bulk += node.end - node.begin;
-                for (std::uint32_t i = node.begin; i < node.end; ++i) {
-                    const vec3 d = records_[i].position() - ray.origin;
-                    hit.t = glm::dot(d, ray.direction);
-                    const vec3 perp = d - hit.t * ray.direction;
-                    hit.distance2 = glm::dot(perp, perp);
-                    hit.index = i;
-                    if (!collect(hit)) return false;
-                }
+                if (!report_all(ray, node.begin, node.end, collect)) return false;
                 continue;
             }
             if (node.child_count > 0) {
@@ -169,11 +192,70 @@ private:
                 continue;
             }
             if constexpr (Profile) stats.tested += node.end - node.begin;
-            for (std::uint32_t i = node.begin; i < node.end; ++i) {
-                if (!in_cylinder(ray, records_[i].position(), r2, hit)) continue;
-                hit.index = i;
-                if (!collect(hit)) return false;
+            for (std::uint32_t chunk = node.begin; chunk < node.end; chunk += LeafHits::capacity) {
+                const std::uint32_t stop = std::min<std::uint32_t>(node.end, chunk + LeafHits::capacity);
+                LeafHits found;
+                const std::uint32_t n = filter(records, chunk, stop, ray, r2, found);
+                for (std::uint32_t k = 0; k < n; ++k) {
+                    hit.index = found.index[k];
+                    hit.t = found.t[k];
+                    hit.distance2 = found.distance2[k];
+                    if (!collect(hit)) return false;
+                }
             }
+        }
+        return true;
+    }
+
+    /// The records of one leaf chunk that in_cylinder accepts, with its t and distance2.
+    struct LeafHits {
+        static constexpr std::uint32_t capacity = 64;
+        std::array<std::uint32_t, capacity> index;
+        std::array<double, capacity> t, distance2;
+    };
+
+    /// in_cylinder over records [begin, end) (at most LeafHits::capacity), without a branch
+    /// per record: each record's values are written and the write position advances only
+    /// if it is accepted (near the cylinder's surface acceptance is a coin toss, which a
+    /// branch would mispredict half the time). Same arithmetic as in_cylinder. Out of line,
+    /// so its code does not depend on the collector inlined around it.
+#if defined(__GNUC__)
+    __attribute__((noinline))
+#endif
+    static std::uint32_t filter(const Record* records, std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2,
+                                LeafHits& out) {
+        const vec3 o = ray.origin, u = ray.direction;
+        const double t_max = ray.t_max;
+        std::uint32_t n = 0;
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const vec3 d = records[i].position() - o;
+            const double t = glm::dot(d, u);
+            const vec3 perp = d - t * u;
+            const double dist2 = glm::dot(perp, perp);
+            out.index[n] = i;
+            out.t[n] = t;
+            out.distance2[n] = dist2;
+            n += static_cast<std::uint32_t>((t >= 0.0) & (t <= t_max) & (dist2 <= r2));
+        }
+        return n;
+    }
+
+    /// Reports records [begin, end), all inside the cylinder, with in_cylinder's t and
+    /// distance2 (kept out of line: the walk's hot loop stays small).
+    template <Collector C>
+#if defined(__GNUC__)
+    __attribute__((noinline))
+#endif
+    bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, C& collect) const {
+        const Record* const records = records_.data();
+        Hit hit{};
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const vec3 d = records[i].position() - ray.origin;
+            hit.t = glm::dot(d, ray.direction);
+            const vec3 perp = d - hit.t * ray.direction;
+            hit.distance2 = glm::dot(perp, perp);
+            hit.index = i;
+            if (!collect(hit)) return false;
         }
         return true;
     }

@@ -54,7 +54,10 @@ public:
             for (std::size_t j = 0; j < n; ++j) k_[1][j] += bi[j];
         k_[2].resize(n);
         for (std::size_t j = 0; j < n; ++j) k_[2][j] = k_[0][j] + k_[1][j];
-        for (int c = 0; c < 3; ++c) cumulative_[c] = cumulate(k_[c]);
+        for (int c = 0; c < 3; ++c) {
+            cumulative_[c] = cumulate(k_[c]);
+            index_cumulative(c);
+        }
         detect_uniform_spacing();
     }
 
@@ -188,13 +191,40 @@ private:
         return v[j] + (v[j + 1] - v[j]) * (z - z_[j]) / (z_[j + 1] - z_[j]);
     }
 
+    /// A coarse index into the nondecreasing K_j: bins of equal width in K (four per node on
+    /// average), each holding the last node j with K_j <= the bin's start, so that finding
+    /// the node interval of a given K is a lookup and a short forward walk.
+    void index_cumulative(int c) {
+        const auto& cum = cumulative_[c];
+        const std::size_t bins = 4 * cum.size();
+        bin_width_[c] = cum.back() / static_cast<double>(bins);
+        bin_node_[c].assign(bins + 1, 0);
+        if (!(bin_width_[c] > 0.0)) return;
+        std::size_t j = 0;
+        for (std::size_t b = 0; b <= bins; ++b) {
+            const double start = static_cast<double>(b) * bin_width_[c];
+            while (j + 1 < cum.size() && cum[j + 1] <= start) ++j;
+            bin_node_[c][b] = j;
+        }
+    }
+
+    /// The last node j with K_j <= target (target >= 0).
+    [[nodiscard]] std::size_t node_below(int c, double target) const {
+        const auto& cum = cumulative_[c];
+        std::size_t j = 0;
+        if (bin_width_[c] > 0.0) {
+            const double b = std::min(target / bin_width_[c], static_cast<double>(bin_node_[c].size() - 1));
+            j = bin_node_[c][static_cast<std::size_t>(b)];
+        }
+        while (j + 1 < cum.size() && cum[j + 1] <= target) ++j;
+        return j;
+    }
+
     /// The depth where K(z) = target (target >= 0), by the quadratic of 3.3.4.
     [[nodiscard]] double depth_at_optical_depth(Coefficient k, double target) const {
         const auto& kk = k_[index(k)];
         const auto& cum = cumulative_[index(k)];
-        // Last node with K_j <= target.
-        const auto it = std::upper_bound(cum.begin(), cum.end(), target);
-        const std::size_t j = static_cast<std::size_t>(it - cum.begin()) - 1;
+        const std::size_t j = node_below(index(k), target);
         const double dk = target - cum[j];
         if (j + 1 == z_.size()) return kk[j] > 0.0 ? z_[j] + dk / kk[j] : INFINITY;
         const double h = z_[j + 1] - z_[j];
@@ -208,6 +238,8 @@ private:
     std::vector<double> z_;
     std::array<std::vector<double>, 3> k_;           ///< a, b, c at the nodes
     std::array<std::vector<double>, 3> cumulative_;  ///< K at the nodes
+    std::array<double, 3> bin_width_{};               ///< index_cumulative's bins
+    std::array<std::vector<std::size_t>, 3> bin_node_;
     std::vector<std::vector<double>> b_i_;
     std::vector<Phase> phases_;
     double inverse_spacing_ = 0.0;  ///< 1 / h for equally spaced nodes, else 0

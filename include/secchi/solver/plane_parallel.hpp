@@ -179,7 +179,10 @@ PlaneParallelResult solve_stratified(const StratifiedWater<Phase>& water, const 
     using Optics = StratifiedRayOptics<StratifiedWater<Phase>, ConeAveragedPhase<Phase>>;
     auto out = solve_plane_parallel_in<Record>(water, Optics{water, cones, ImportanceLevels(cfg.transport.importance, water)}, cfg);
     out.phase_name = "mixture";
-    for (const auto& p : water.phases()) out.phase_name += " " + p.name();
+    for (const auto& p : water.phases()) {
+        out.phase_name += ' ';
+        out.phase_name += p.name();
+    }
     return out;
 }
 

@@ -35,25 +35,19 @@ struct ConstantConcentrationParams {
     double conc = 2.0;  ///< CONC: the concentration at any point of the medium
 };
 
-class ConstantConcentration {
+class ConstantConcentration : public ModelParameters<ConstantConcentrationParams> {
 public:
     using Params = ConstantConcentrationParams;
     static constexpr const char* type_name = "constant";
 
     ConstantConcentration() : ConstantConcentration(Params{}) {}
-    explicit ConstantConcentration(const Params& p, Noise noise = {}) : p_(p), noise_(noise) {
+    explicit ConstantConcentration(const Params& p, Noise noise = {}) : ModelParameters<ConstantConcentrationParams>(p, noise) {
         require(std::isfinite(p.conc) && p.conc >= 0.0, "CONC", p.conc, "must be finite and >= 0");
     }
 
     [[nodiscard]] double concentration(vec3 x) const {
         return noise_.add(p_.conc, x, concentration_noise_wavelength);
     }
-    [[nodiscard]] const Params& params() const { return p_; }
-    [[nodiscard]] const Noise& noise() const { return noise_; }
-
-private:
-    Params p_;
-    Noise noise_;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -69,13 +63,13 @@ struct LinearConcentrationParams {
     double rate = -0.1;   ///< RATE: change of concentration per metre of (positive) depth
 };
 
-class LinearConcentration {
+class LinearConcentration : public ModelParameters<LinearConcentrationParams> {
 public:
     using Params = LinearConcentrationParams;
     static constexpr const char* type_name = "linear";
 
     LinearConcentration() : LinearConcentration(Params{}) {}
-    explicit LinearConcentration(const Params& p, Noise noise = {}) : p_(p), noise_(noise) {
+    explicit LinearConcentration(const Params& p, Noise noise = {}) : ModelParameters<LinearConcentrationParams>(p, noise) {
         require(std::isfinite(p.atzero) && p.atzero >= 0.0, "ATZERO", p.atzero, "must be finite and >= 0");
         require(std::isfinite(p.zlevel), "ZLEVEL", p.zlevel, "must be finite");
         require(std::isfinite(p.rate), "RATE", p.rate, "must be finite");
@@ -88,12 +82,6 @@ public:
     [[nodiscard]] double concentration(vec3 x) const {
         return noise_.add(profile(x.z), x, concentration_noise_wavelength);
     }
-    [[nodiscard]] const Params& params() const { return p_; }
-    [[nodiscard]] const Noise& noise() const { return noise_; }
-
-private:
-    Params p_;
-    Noise noise_;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -109,13 +97,13 @@ struct GaussianConcentrationParams {
     double s = 9.0;       ///< S: s of eq. 5.30, the peak's standard deviation (m)
 };
 
-class GaussianConcentration {
+class GaussianConcentration : public ModelParameters<GaussianConcentrationParams> {
 public:
     using Params = GaussianConcentrationParams;
     static constexpr const char* type_name = "gaussian";
 
     GaussianConcentration() : GaussianConcentration(Params{}) {}
-    explicit GaussianConcentration(const Params& p, Noise noise = {}) : p_(p), noise_(noise) {
+    explicit GaussianConcentration(const Params& p, Noise noise = {}) : ModelParameters<GaussianConcentrationParams>(p, noise) {
         require(std::isfinite(p.zlevel), "ZLEVEL", p.zlevel, "must be finite");
         require(std::isfinite(p.dmax), "DMAX", p.dmax, "must be finite");
         require(std::isfinite(p.bg) && p.bg >= 0.0, "BG", p.bg, "must be finite and >= 0");
@@ -131,12 +119,6 @@ public:
     [[nodiscard]] double concentration(vec3 x) const {
         return noise_.add(profile(x.z), x, concentration_noise_wavelength);
     }
-    [[nodiscard]] const Params& params() const { return p_; }
-    [[nodiscard]] const Noise& noise() const { return noise_; }
-
-private:
-    Params p_;
-    Noise noise_;
 };
 
 // ---------------------------------------------------------------------------------------

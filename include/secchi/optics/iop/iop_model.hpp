@@ -13,6 +13,7 @@
 //
 // Wavelengths are in nanometres throughout.
 #include "secchi/core/math.hpp"
+#include "secchi/optics/iop/noise.hpp"
 #include <concepts>
 
 namespace secchi::iop {
@@ -30,6 +31,20 @@ concept CoefficientModel = requires(const M m, vec3 x, double wavelength_nm) {
 template <class M>
 concept RefractiveIndexModel = requires(const M m, double wavelength_nm) {
     { m.refractive_index(wavelength_nm) } -> std::convertible_to<double>;
+};
+
+/// What a parameterised model holds: its parameters (named and defaulted as in the manual's
+/// tables) and its SIGMA noise (5.5). Models derive from it.
+template <class Params>
+class ModelParameters {
+public:
+    [[nodiscard]] const Params& params() const { return p_; }
+    [[nodiscard]] const Noise& noise() const { return noise_; }
+
+protected:
+    ModelParameters(const Params& p, Noise noise) : p_(p), noise_(noise) {}
+    Params p_;
+    Noise noise_;  ///< SIGMA
 };
 
 }  // namespace secchi::iop

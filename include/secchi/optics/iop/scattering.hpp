@@ -43,14 +43,14 @@ struct GordonMorelParams {
 };
 
 template <ConcentrationModel Conc>
-class GordonMorelScattering {
+class GordonMorelScattering : public ModelParameters<GordonMorelParams> {
 public:
     using Params = GordonMorelParams;
     static constexpr const char* type_name = "gordonmorel";
 
     /// conc: the model named by CONCID (default "chlorophyll", mg m^-3 in eq. 5.21).
     explicit GordonMorelScattering(Conc conc, const Params& p = {}, Noise noise = {})
-        : conc_(std::move(conc)), p_(p), noise_(noise) {
+        : ModelParameters<GordonMorelParams>(p, noise), conc_(std::move(conc)) {
         require(std::isfinite(p.refwl) && p.refwl > 0.0, "REFWL", p.refwl, "must be finite and > 0 (nm)");
         require(std::isfinite(p.k) && p.k >= 0.0, "K", p.k, "must be finite and >= 0");
         // q < 0 would make b infinite where C = 0 (clear water).
@@ -67,14 +67,10 @@ public:
     /// the medium (this one replaces them, e.g. eq. 5.21 with its own water term); this model
     /// only stores the flag.
     [[nodiscard]] bool exclusive() const { return p_.exclusive; }
-    [[nodiscard]] const Params& params() const { return p_; }
     [[nodiscard]] const Conc& concentration_model() const { return conc_; }
-    [[nodiscard]] const Noise& noise() const { return noise_; }
 
 private:
     Conc conc_;    ///< CONCID
-    Params p_;
-    Noise noise_;  ///< SIGMA
 };
 
 // ---------------------------------------------------------------------------------------
@@ -87,7 +83,7 @@ struct KopelevichParams {
 };
 
 template <ConcentrationModel Conc = NoConcentration>
-class KopelevichScattering {
+class KopelevichScattering : public ModelParameters<KopelevichParams> {
 public:
     using Params = KopelevichParams;
     static constexpr const char* type_name = "kopelevich";
@@ -101,7 +97,7 @@ public:
         : KopelevichScattering(NoConcentration{}, p, noise) {}
     /// conc: the model named by CONCID.
     explicit KopelevichScattering(Conc conc, const Params& p = {}, Noise noise = {})
-        : conc_(std::move(conc)), p_(p), noise_(noise) {
+        : ModelParameters<KopelevichParams>(p, noise), conc_(std::move(conc)) {
         require(std::isfinite(p.refwl) && p.refwl > 0.0, "REFWL", p.refwl, "must be finite and > 0 (nm)");
         require(std::isfinite(p.k) && p.k >= 0.0, "K", p.k, "must be finite and >= 0");
         require(std::isfinite(p.q), "Q", p.q, "must be finite");
@@ -112,14 +108,10 @@ public:
         const double b = p_.k * conc_.concentration(x) * std::pow(p_.refwl / wavelength_nm, p_.q);
         return noise_.add(b, x, wavelength_nm);
     }
-    [[nodiscard]] const Params& params() const { return p_; }
     [[nodiscard]] const Conc& concentration_model() const { return conc_; }
-    [[nodiscard]] const Noise& noise() const { return noise_; }
 
 private:
     Conc conc_;    ///< CONCID
-    Params p_;
-    Noise noise_;  ///< SIGMA
 };
 
 // ---------------------------------------------------------------------------------------
@@ -136,13 +128,13 @@ struct BuiteveldParams {
     double q = -4.1537676;   ///< Q: the exponent of eq. 5.1 (negative)
 };
 
-class BuiteveldScattering {
+class BuiteveldScattering : public ModelParameters<BuiteveldParams> {
 public:
     using Params = BuiteveldParams;
     static constexpr const char* type_name = "buiteveld";
 
     BuiteveldScattering() : BuiteveldScattering(Params{}) {}
-    explicit BuiteveldScattering(const Params& p, Noise noise = {}) : p_(p), noise_(noise) {
+    explicit BuiteveldScattering(const Params& p, Noise noise = {}) : ModelParameters<BuiteveldParams>(p, noise) {
         require(std::isfinite(p.k) && p.k >= 0.0, "K", p.k, "must be finite and >= 0");
         require(std::isfinite(p.q), "Q", p.q, "must be finite");
     }
@@ -151,12 +143,6 @@ public:
         detail::check_scattering_wavelength(wavelength_nm);
         return noise_.add(p_.k * std::pow(wavelength_nm, p_.q), x, wavelength_nm);
     }
-    [[nodiscard]] const Params& params() const { return p_; }
-    [[nodiscard]] const Noise& noise() const { return noise_; }
-
-private:
-    Params p_;
-    Noise noise_;  ///< SIGMA
 };
 
 static_assert(CoefficientModel<GordonMorelScattering<ConstantConcentration>>);

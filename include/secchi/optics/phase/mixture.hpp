@@ -32,7 +32,7 @@ public:
                 "must equal the number of components (G and W of manual eq. 5.28)");
         double sum = 0.0;
         for (std::size_t i = 0; i < weights_.size(); ++i) {
-            require(std::isfinite(weights_[i]) && weights_[i] >= 0.0, indexed("weights", i), weights_[i],
+            require(std::isfinite(weights_[i]) && weights_[i] >= 0.0, indexed_name("weights", i), weights_[i],
                     "weights must be finite and non-negative");
             sum += weights_[i];
         }
@@ -98,14 +98,6 @@ public:
     }
 
 private:
-    static std::string indexed(const char* name, std::size_t i) {
-        std::string s(name);
-        s += '[';
-        s += std::to_string(i);
-        s += ']';
-        return s;
-    }
-
     std::vector<P> components_;
     std::vector<double> weights_, cum_;  // normalised weights; cum_[i] = w_0 + ... + w_{i-1}
 };

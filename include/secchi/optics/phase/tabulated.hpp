@@ -127,23 +127,14 @@ public:
 private:
     static constexpr double cap_psi = 1.0536712127723509e-08;  // 2^-26.5: cos(psi) rounds to 1 below
 
-    /// "name[i]" (built by appending: g++ 12 -O3 flags "literal" + string with -Wrestrict).
-    static std::string indexed(const char* name, std::size_t i) {
-        std::string s(name);
-        s += '[';
-        s += std::to_string(i);
-        s += ']';
-        return s;
-    }
-
     static void validate(const std::vector<double>& a, const std::vector<double>& v, std::optional<double> k) {
         require(a.size() >= 2, "angle_deg.size()", a.size(), "a table needs at least 2 nodes");
         require(v.size() == a.size(), "value.size()", v.size(), "must equal angle_deg.size()");
         for (std::size_t i = 0; i < a.size(); ++i) {
-            require(std::isfinite(a[i]) && a[i] >= 0.0 && a[i] <= 180.0, indexed("angle_deg", i), a[i],
+            require(std::isfinite(a[i]) && a[i] >= 0.0 && a[i] <= 180.0, indexed_name("angle_deg", i), a[i],
                     "angles must lie in [0, 180] degrees");
-            require(i == 0 || a[i] > a[i - 1], indexed("angle_deg", i), a[i], "angles must be strictly increasing");
-            require(std::isfinite(v[i]) && v[i] > 0.0, indexed("value", i), v[i], "values must be positive and finite");
+            require(i == 0 || a[i] > a[i - 1], indexed_name("angle_deg", i), a[i], "angles must be strictly increasing");
+            require(std::isfinite(v[i]) && v[i] > 0.0, indexed_name("value", i), v[i], "values must be positive and finite");
         }
         if (k) {
             require(std::isfinite(*k) && *k < 2.0, "power_law_exponent", *k, "must be finite and below 2");
