@@ -34,8 +34,10 @@ Runs Mobley et al. 1993 problems 1, 2 and 3 (sun at 60 deg, flat surface n = 1.3
 infinitely deep water; problems 1 and 2 with c = 1 /m, problem 3 stratified at 500 nm) and
 scores them against M93 Table 5. Problem 3's medium is composed at compile time
 (conformance/problem3.hpp), or read from a material file with --material (e.g.
-examples/materials/canonical_problem3.mat); its IOP profile (z, C, a, b, c, w0 every metre
-to 60 m) goes to --profile-csv (default iop_profile_3.csv beside the JSON). Without --photons each
+examples/materials/canonical_problem3.mat); its IOP profile (z, a, b, c, w0 every metre
+to 60 m) goes to --profile-csv (default iop_profile_3.csv beside the JSON); its depth
+importance splits photons each time tau_a grows by mu_i ln 2, mu_i = --importance-cosine
+(default 0.6; 0 turns it off). Without --photons each
 problem uses its default budget (see the table printed at the start). --exr (default
 photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 --petzold petzold|petzold-linear|petzold-linear-flat chooses the particle phase function of
@@ -125,8 +127,8 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     if (p.id == "3") {
         // Problem 3 reaches 60 m (Ed falls 1e4-fold): depth importance (geometric splitting,
         // transport/importance.hpp) keeps photons and map photons at depth, growing like
-        // exp(tau_a / 0.7) down to the deepest ray's end.
-        t.importance = {std::stod(cl.text("importance-cosine", "0.6")), 25.0 + cfg.ray_length};
+        // exp(tau_a / 0.6) down to the deepest Lu ray's end (25 m + ray length).
+        t.importance = {cl.number("importance-cosine", 0.6), 25.0 + cfg.ray_length};
         // Scalar irradiance layers 20 cm thick: where b is small (0.14 /m at 60 m) grazing
         // photons cross a thin layer over long tracks (the 1/|mu| tail of the track-length
         // estimator); the layer's bias (K D)^2 / 24 stays below 5e-4 for K < 0.5 /m.

@@ -11,7 +11,7 @@
 
 namespace {
 
-constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-linear|hg:G --albedo W
+constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
             --sun-zenith DEG --water-index N [--bottom-depth TAU --bottom-albedo A]
             --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi
             [--radius R] [--steps K] --json FILE
