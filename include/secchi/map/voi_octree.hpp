@@ -39,7 +39,7 @@
 //    accepted in bulk, hits), for tuning.
 //
 // Tuning (bench/search_bench --suite tune: a problem-2a map of 6.5e6 CompactRecords, 100
-// vertical rays of length 8, r = 0.05 and 0.026; bench/RESULTS_search.md). At a leaf the
+// vertical rays of length 8, r = 0.05 and 0.026; BENCHMARKS.md). At a leaf the
 // records are filtered without a branch per record (filter()), so a leaf costs little more
 // than streaming its records, while every node costs a box test and, once the map outgrows
 // the cache, a likely miss. Search time per ray therefore falls with the leaf size up to 128:

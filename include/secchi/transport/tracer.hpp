@@ -150,16 +150,18 @@ private:
     /// Splitting (deeper level) or Russian roulette (shallower level) to the photon's
     /// current depth-importance level. False if the photon is killed.
     bool change_level(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, std::vector<PhotonState>& pending) const {
-        const int level = levels_.level(p.pos.z);
-        const int k = level - p.level;
+        const int k = levels_.level(p.pos.z) - p.level;
         if (k == 0) return true;
-        p.level = level;
-        const double ratio = std::ldexp(1.0, k);  // I_new / I_old
-        if (k > 0) {                              // split into 2^k photons of weight w / 2^k
-            p.w /= ratio;
-            for (int i = 1; i < (1 << std::min(k, 20)); ++i) pending.push_back(p);
+        if (k > 0) {  // split into 2^k photons of weight w / 2^k (at most 2^20 at once: a photon
+                      // left below its level splits again at its next step, or stores copies)
+            const int split = std::min(k, 20);
+            p.level += split;
+            p.w = std::ldexp(p.w, -split);
+            for (int i = 1; i < (1 << split); ++i) pending.push_back(p);
             return true;
         }
+        p.level += k;
+        const double ratio = std::ldexp(1.0, k);  // I_new / I_old < 1
         if (rng.uniform() < ratio) {  // survive with probability 2^k (k < 0), weight / 2^k
             ledger.roulette_gained += p.w / ratio - p.w;
             p.w /= ratio;
