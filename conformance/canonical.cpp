@@ -197,7 +197,10 @@ StratifiedWater<AnyPhaseFunction> problem3_water(const CommandLine& cl) {
     const double wl = conformance::problem3_wavelength_nm;
     if (cl.has("material"))
         return iop::stratify(io::read_iop_model(cl.text("material"), cl.count("seed", 1)), wl, depths);
-    const AnyPhase particle = parse_phase(cl.text("petzold", "petzold"));
+    const std::string name = cl.text("petzold", "petzold");
+    const AnyPhase particle = parse_phase(name);
+    if (!std::holds_alternative<TabulatedPhase>(particle))
+        reject("--petzold", name, "must be petzold, petzold-linear or petzold-linear-flat");
     return iop::stratify(conformance::problem3_model(std::get<TabulatedPhase>(particle)), wl, depths);
 }
 

@@ -53,12 +53,9 @@ struct StratifiedRayOptics {
     const std::vector<ConePhase>& cones;  ///< one per scattering component, in order
     ImportanceLevels importance{};        ///< the first pass's (transport/importance.hpp)
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
-        std::array<double, Water::max_components> w{};
-        const double b = water.weights(z, w);
-        double p = 0.0;
-        for (std::size_t i = 0; i < cones.size(); ++i) p += w[i] * cones[i].eval(cos_psi);
+        const double p = water.mixture(z, [&](std::size_t i) { return cones[i].eval(cos_psi); });
         const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
-        return b > 0.0 ? p / b * std::exp(-tau) / importance.factor(z) : 0.0;
+        return p * std::exp(-tau) / importance.factor(z);
     }
 };
 

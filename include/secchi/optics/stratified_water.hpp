@@ -100,23 +100,27 @@ public:
     [[nodiscard]] PhaseSample sample_phase(double z, double u1, double u2) const {
         if (phases_.size() == 1) return phases_[0].sample(u1, u2);
         std::array<double, max_components> w{};
+        const double target = u1 * weights(z, w);
+        double lo = 0.0;
+        std::size_t i = 0;
+        while (i + 1 < phases_.size() && target >= lo + w[i]) lo += w[i++];
+        return phases_[i].sample(std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53), u2);
+    }
+
+    /// sum_i (b_i(z) / b(z)) f(i): a mixture over the components at depth z (eq. 5.5-5.6),
+    /// e.g. of their phase functions; 0 where b = 0.
+    template <class F>
+    [[nodiscard]] double mixture(double z, F&& f) const {
+        std::array<double, max_components> w{};
         const double b = weights(z, w);
-        double target = u1 * b, lo = 0.0;
-        for (std::size_t i = 0; i + 1 < phases_.size(); ++i) {
-            if (target < lo + w[i]) return phases_[i].sample(std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53), u2);
-            lo += w[i];
-        }
-        const double last = w[phases_.size() - 1];
-        return phases_.back().sample(std::clamp((target - lo) / last, 0x1p-53, 1.0 - 0x1p-53), u2);
+        double sum = 0.0;
+        for (std::size_t i = 0; i < phases_.size(); ++i) sum += w[i] * f(i);
+        return b > 0.0 ? sum / b : 0.0;
     }
 
     /// Phase function of the mixture at depth z (1/sr).
     [[nodiscard]] double eval_phase(double z, double cos_psi) const {
-        std::array<double, max_components> w{};
-        const double b = weights(z, w);
-        double sum = 0.0;
-        for (std::size_t i = 0; i < phases_.size(); ++i) sum += w[i] * phases_[i].eval(cos_psi);
-        return b > 0.0 ? sum / b : 0.0;
+        return mixture(z, [&](std::size_t i) { return phases_[i].eval(cos_psi); });
     }
 
     /// b_i(z) into w (unnormalised mixture weights); returns b(z) = sum_i b_i(z).

@@ -28,8 +28,6 @@
 
 namespace secchi {
 
-class ImportanceLevels;
-
 struct DepthImportance {
     double cosine = 0.0;     ///< mu_i; 0 = off
     double max_depth = 0.0;  ///< z_max (m): the importance is largest there (the deepest detector)
@@ -41,11 +39,8 @@ struct DepthImportance {
                 "must be in [0, 1] (0 = off)");
         require(std::isfinite(max_depth) && max_depth >= 0.0, "importance depth (m)", max_depth, "must be >= 0");
     }
-
-    /// The level boundaries in a medium (what the transport and the estimator both use).
-    template <Medium M>
-    [[nodiscard]] ImportanceLevels levels(const M& medium) const;
 };
+
 
 /// L(z) for one medium: the depths where tau_a crosses multiples of mu_i ln 2 (above z_max,
 /// where the level rises) and below z_max (where it falls), found once by the medium's exact
@@ -87,10 +82,5 @@ private:
     double max_depth_ = 0.0;
     std::vector<double> rising_, falling_;
 };
-
-template <Medium M>
-ImportanceLevels DepthImportance::levels(const M& medium) const {
-    return ImportanceLevels(*this, medium);
-}
 
 }  // namespace secchi

@@ -66,11 +66,10 @@ class PhotonTracer {
 public:
     PhotonTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
                  TransportSettings settings)
-        : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(std::move(settings)),
+        : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(validated(std::move(settings))),
           layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
-          continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()), levels_(s_.importance, medium) {
-        s_.validate();
-    }
+          continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
+          levels_(s_.importance, medium) {}
 
     TransportResult<Record> run() const {
         const auto blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
@@ -80,6 +79,11 @@ public:
     }
 
 private:
+    static TransportSettings validated(TransportSettings s) {
+        s.validate();
+        return s;
+    }
+
     struct PhotonState {
         vec3 pos, dir;
         double w;
