@@ -178,7 +178,7 @@ struct Collected {
 template <class Store, class Volume>
 Collected collect(const Options& o, const Store& store, const Volume& volume, const Cone& cone,
                   const TransportResult<CompactRecord>& map, const std::vector<Ray>& rays, double radius) {
-    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics<Cone>{cone, 1.0},
+    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics(cone, 1.0),
                                     map.flux_per_map_photon, map.batches, Radius(radius));
     RadianceEstimate r;
     const Timing t = time_runs(o.repeats, [&] { r = est.estimate(rays, 1); });

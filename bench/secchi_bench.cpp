@@ -68,7 +68,7 @@ struct CollectionFigures {
 template <class Store, class Volume, class Cone>
 CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, double flux, unsigned batches,
                           const std::vector<Ray>& rays, unsigned threads, int repeats, double radius = 0.05) {
-    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics<Cone>{cone, 1.0}, flux, batches, Radius(radius));
+    const PathRadianceEstimator est(store, volume, HomogeneousRayOptics(cone, 1.0), flux, batches, Radius(radius));
     RadianceEstimate r;
     const double t = median_seconds(repeats, [&] { r = est.estimate(rays, threads); });
     return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};

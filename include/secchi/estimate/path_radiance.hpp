@@ -13,6 +13,7 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
 #include "secchi/optics/medium.hpp"
+#include "secchi/optics/phase/chord_table.hpp"
 #include "secchi/transport/importance.hpp"
 #include "secchi/transport/parallel.hpp"
 #include <cstdint>
@@ -34,26 +35,32 @@ concept RayOptics = requires(const O o, double z, double cos_psi, Ray ray, doubl
     { o.in_scatter(z, cos_psi, ray, t) } -> std::convertible_to<double>;
 };
 
-/// Homogeneous water: one cone-averaged phase function and exp(-c t).
-template <class ConePhase>
+/// Homogeneous water: one cone-averaged phase function and exp(-c t). The phase function is
+/// looked up in a ChordTable (no acos per photon; optics/phase/chord_table.hpp).
 struct HomogeneousRayOptics {
-    const ConePhase& cone;
+    template <class ConePhase>
+    HomogeneousRayOptics(const ConePhase& cone, double attenuation_) : phase(cone), attenuation(attenuation_) {}
+    ChordTable phase;
     double attenuation;
     [[nodiscard]] double in_scatter(double, double cos_psi, const Ray&, double t) const {
-        return cone.eval(cos_psi) * std::exp(-attenuation * t);
+        return phase.eval(cos_psi) * std::exp(-attenuation * t);
     }
 };
 
 /// Depth-varying water (a StratifiedWater): the components' cone-averaged phase functions
 /// weighted by b_i(z) / b(z) (eq. 5.5-5.6), and exp(-int c) along the ray. With depth
 /// importance in the first pass, a photon stored at depth z carries the flux Phi / I(z).
-template <class Water, class ConePhase>
+template <class Water>
 struct StratifiedRayOptics {
+    /// cones: one cone-averaged phase function per scattering component, in order.
+    template <class ConePhase>
+    StratifiedRayOptics(const Water& water_, const std::vector<ConePhase>& cones, ImportanceLevels importance_ = {})
+        : water(water_), phases(cones.begin(), cones.end()), importance(importance_) {}
     const Water& water;
-    const std::vector<ConePhase>& cones;  ///< one per scattering component, in order
-    ImportanceLevels importance{};        ///< the first pass's (transport/importance.hpp)
+    std::vector<ChordTable> phases;
+    ImportanceLevels importance;  ///< the first pass's (transport/importance.hpp)
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
-        const double p = water.mixture(z, [&](std::size_t i) { return cones[i].eval(cos_psi); });
+        const double p = water.mixture(z, [&](std::size_t i) { return phases[i].eval(cos_psi); });
         const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
         return p * std::exp(-tau) / importance.factor(z);
     }

@@ -23,12 +23,14 @@ public:
             if (arg.rfind("--", 0) != 0) reject("argument", arg, "expected --option");
             const std::string name = arg.substr(2);
             if (!known.count(name) && !flags.count(name)) reject("option", arg, "unknown option");
+            // insert_or_assign of a whole string (not assignment from a char pointer, where
+            // GCC 12 -O3 inlines a memcpy it then wrongly reports under -Wrestrict).
             if (flags.count(name)) {
-                values_[name] = "1";
+                values_.insert_or_assign(name, std::string(1, '1'));
                 continue;
             }
             if (i + 1 >= argc) reject("option", arg, "needs a value");
-            values_[name] = argv[++i];
+            values_.insert_or_assign(name, std::string(argv[++i]));
         }
     }
     /// True if --help is among the arguments (checked before parsing, so it always works).

@@ -172,28 +172,72 @@ private:
         const detail::PaddedSegment segment(ray, r2);
         const detail::CylinderInterior interior(ray, r2);
         const bool bulk = interior.usable();
-        const Record* const records = records_.data();
         const Node* const nodes = nodes_.data();
+        // Two phases, so that record memory is fetched ahead of use: the walk lists the
+        // record ranges to scan (leaves) or report whole (bulk), in walk order, in `work`;
+        // stream() then goes through the list, prefetching each range's records one range
+        // ahead. Scanning streams ~5,000 records per ray from memory and is limited by it
+        // (BENCHMARKS.md); the hits and their order are those of the one-phase walk.
+        WorkList work;
         Stack stack;
         if (!nodes_.empty()) stack.push(0);
-        Hit hit{};
         while (!stack.empty()) {
             const Node& node = nodes[stack.pop()];
             const vec3 lo = lower(node), hi = upper(node);
             if (!segment.meets(lo, hi)) continue;
             if constexpr (Profile) ++stats.nodes;
-            if (bulk && interior.contains(lo, hi)) {
-                if constexpr (Profile) stats.bulk += node.end - node.begin;
-                if (!report_all(ray, node.begin, node.end, collect)) return false;
-                continue;
-            }
-            if (node.child_count > 0) {
+            const bool whole = bulk && interior.contains(lo, hi);
+            if (!whole && node.child_count > 0) {
                 push_children(node, stack);
                 continue;
             }
-            if constexpr (Profile) stats.tested += node.end - node.begin;
-            for (std::uint32_t chunk = node.begin; chunk < node.end; chunk += LeafHits::capacity) {
-                const std::uint32_t stop = std::min<std::uint32_t>(node.end, chunk + LeafHits::capacity);
+            if constexpr (Profile) (whole ? stats.bulk : stats.tested) += node.end - node.begin;
+            work.items[work.size++] = {node.begin, node.end, whole};
+            if (work.size == WorkList::capacity) {
+                if (!stream(work, ray, r2, collect)) return false;
+                work.size = 0;
+            }
+        }
+        return stream(work, ray, r2, collect);
+    }
+
+    /// Record ranges queued by the walk: scan with the cylinder test, or report whole.
+    struct WorkList {
+        struct Range {
+            std::uint32_t begin, end;
+            bool whole;
+        };
+        static constexpr std::size_t capacity = 64;
+        std::array<Range, capacity> items;
+        std::size_t size = 0;
+    };
+
+    /// Hints the cache to fetch records [begin, end) (at most the first 4 KiB).
+    void prefetch(std::uint32_t begin, std::uint32_t end) const {
+#if defined(__GNUC__)
+        const char* p = reinterpret_cast<const char*>(records_.data() + begin);
+        const char* const stop = reinterpret_cast<const char*>(records_.data() + end);
+        for (const char* last = p + 4096; p < stop && p < last; p += 64) __builtin_prefetch(p);
+#else
+        (void)begin, (void)end;
+#endif
+    }
+
+    /// Reports the hits of the queued ranges in order, prefetching one range ahead.
+    template <Collector C>
+    bool stream(const WorkList& work, const Ray& ray, double r2, C& collect) const {
+        const Record* const records = records_.data();
+        if (work.size > 0) prefetch(work.items[0].begin, work.items[0].end);
+        Hit hit{};
+        for (std::size_t w = 0; w < work.size; ++w) {
+            if (w + 1 < work.size) prefetch(work.items[w + 1].begin, work.items[w + 1].end);
+            const auto& range = work.items[w];
+            if (range.whole) {
+                if (!report_all(ray, range.begin, range.end, collect)) return false;
+                continue;
+            }
+            for (std::uint32_t chunk = range.begin; chunk < range.end; chunk += LeafHits::capacity) {
+                const std::uint32_t stop = std::min<std::uint32_t>(range.end, chunk + LeafHits::capacity);
                 LeafHits found;
                 const std::uint32_t n = filter(records, chunk, stop, ray, r2, found);
                 for (std::uint32_t k = 0; k < n; ++k) {

@@ -165,7 +165,7 @@ template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
 PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallelConfig& cfg) {
     const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
     const ConeAveragedPhase<Phase> cone(phase, cfg.omega);
-    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics<ConeAveragedPhase<Phase>>{cone, medium.attenuation()}, cfg);
+    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics(cone, medium.attenuation()), cfg);
     out.phase_name = phase.name();
     out.moments = phase_moments(phase);
     return out;
@@ -176,8 +176,8 @@ template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
 PlaneParallelResult solve_stratified(const StratifiedWater<Phase>& water, const PlaneParallelConfig& cfg) {
     std::vector<ConeAveragedPhase<Phase>> cones;
     for (const auto& p : water.phases()) cones.emplace_back(p, cfg.omega);
-    using Optics = StratifiedRayOptics<StratifiedWater<Phase>, ConeAveragedPhase<Phase>>;
-    auto out = solve_plane_parallel_in<Record>(water, Optics{water, cones, ImportanceLevels(cfg.transport.importance, water)}, cfg);
+    const StratifiedRayOptics optics(water, cones, ImportanceLevels(cfg.transport.importance, water));
+    auto out = solve_plane_parallel_in<Record>(water, optics, cfg);
     out.phase_name = "mixture";
     for (const auto& p : water.phases()) {
         out.phase_name += ' ';
