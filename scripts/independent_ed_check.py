@@ -1,6 +1,13 @@
 #!/usr/bin/env python3
 """Independent Monte Carlo for Mobley et al. 1993 canonical problems 1a, 2a, 2b.
 
+A cross-check of secchi's transport that shares no code with it (numpy only; not part of
+the tests). Usage:
+    python3 scripts/independent_ed_check.py 2a:A 3e7 [out.json]   # problem:definition photons
+    python3 scripts/independent_ed_check.py 1a 1e7
+    python3 scripts/independent_ed_check.py pf 0                   # the two Petzold definitions' moments
+README.md (conformance) gives the results.
+
 Plane-parallel, infinitely deep homogeneous water, flat surface (n = 1.340),
 black sky, sun at 60 deg zenith, E_perp = 1 => Ed(air) = cos(60) = 0.5.
 
