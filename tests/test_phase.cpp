@@ -159,6 +159,72 @@ TEST_CASE("tabulated sampling inverts the exact cumulative integral") {
     check_phase_function(flat, 33);
 }
 
+TEST_CASE("tabulated sampling: the guide table finds upper_bound's segment, bit for bit") {
+    // Cumulative tables: Petzold's (strongly concentrated), random ones with repeated values,
+    // and a 2-node one. Targets: random u, every bucket edge b/G and its neighbours, every
+    // node's u = cum_i / cum_n and its neighbours, and the ends.
+    std::vector<std::vector<double>> tables;
+    for (auto c : {TabulatedConvention::trapezoid, TabulatedConvention::linear_p}) {
+        const TabulatedPhase p = petzold_m93(c);
+        std::vector<double> cum;
+        for (double psi : p.breakpoints()) cum.push_back(p.cumulative(psi));
+        tables.push_back(cum);
+    }
+    PhotonRng rng(5, 0);
+    for (int n : {2, 3, 17, 300, 5000}) {
+        std::vector<double> cum{rng.uniform() < 0.5 ? 0.0 : rng.uniform()};
+        for (int i = 1; i < n; ++i) cum.push_back(cum.back() + (rng.uniform() < 0.2 ? 0.0 : std::pow(rng.uniform(), 8)));
+        if (cum.back() == cum.front()) cum.back() += 1.0;
+        tables.push_back(cum);
+    }
+    for (const auto& cum : tables) {
+        const detail::CumulativeGuide guide(cum);
+        std::vector<double> us{0.0, 1.0, std::nextafter(1.0, 0.0)};
+        for (int k = 0; k < 100000; ++k) us.push_back(rng.uniform());
+        for (int b = 0; b <= 1 << 14; ++b)
+            for (double u : {b / 16384.0, b / 4096.0, b / 64.0})
+                us.insert(us.end(), {u, std::nextafter(u, 0.0), std::nextafter(u, 1.0)});
+        for (double c : cum) {
+            const double u = c / cum.back();
+            us.insert(us.end(), {u, std::nextafter(u, 0.0), std::nextafter(u, 1.0)});
+        }
+        long checked = 0;
+        for (double u : us) {
+            if (!(u >= 0.0 && u <= 1.0)) continue;
+            const double target = u * cum.back();
+            if (target < cum.front()) continue;  // the sampler's power-law branch
+            ++checked;
+            const std::size_t expected = detail::CumulativeGuide::upper_bound_index(cum, target);
+            if (guide.find(cum, u, target) != expected)
+                FAIL("n = " << cum.size() << " u = " << u << ": " << guide.find(cum, u, target) << " != " << expected);
+        }
+        CHECK(checked > 100000);
+    }
+}
+
+TEST_CASE("sample_direction is the direction of sample(), bit for bit") {
+    const std::vector<TabulatedPhase> tables{petzold_m93(), petzold_m93(TabulatedConvention::linear_p),
+                                             petzold_m93_flat_forward(),
+                                             TabulatedPhase({0.0, 30.0, 180.0}, {5.0, 1.0, 0.5})};
+    const HenyeyGreensteinPhase hg(0.9);
+    PhotonRng rng(9, 0);
+    for (int k = 0; k < 100000; ++k) {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        for (const auto& t : tables) {
+            const PhaseSample s = t.sample(u1, u2);
+            const PhaseDirection d = t.sample_direction(u1, u2);
+            if (d.cos_psi != s.cos_psi || d.phi != s.phi) FAIL(t.name() << " u1 = " << u1);
+        }
+        const PhaseSample s = hg.sample(u1, u2);
+        const PhaseDirection d = sample_direction_of(hg, u1, u2);
+        if (d.cos_psi != s.cos_psi || d.phi != s.phi) FAIL("HG u1 = " << u1);
+        // A phase function without sample_direction: the generic one takes sample()'s.
+        const PhaseDirection r = sample_direction_of(RayleighPhase(), u1, u2);
+        if (r.cos_psi != RayleighPhase().sample(u1, u2).cos_psi) FAIL("Rayleigh u1 = " << u1);
+    }
+    static_assert(HasDirectionSampler<TabulatedPhase> && HasDirectionSampler<HenyeyGreensteinPhase>);
+}
+
 TEST_CASE("invalid input names the parameter") {
     using TP = TabulatedPhase;
     using Cone = ConeAveragedPhase<IsotropicPhase>;

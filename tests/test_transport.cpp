@@ -5,7 +5,9 @@
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/transport/tracer.hpp"
+#include <cmath>
 #include <cstring>
+#include <vector>
 
 using namespace secchi;
 
@@ -129,6 +131,106 @@ TEST_CASE("Results are bit-identical for 1 and 2 threads") {
             REQUIRE(a.irradiance[i][k].se == b.irradiance[i][k].se);
         }
     REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
+}
+
+namespace {
+/// The detectors' tally without skipping missed layers: every layer's track computed.
+void reference_record(const std::vector<double>& planes, const std::vector<std::pair<double, double>>& layers,
+                      double thickness, const Flight& f, IrradianceTally* tally) {
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+        const double d = planes[i];
+        if (f.uz > 0.0 && f.z0 <= d && d < f.z1) tally[i][Ed] += f.w;
+        if (f.uz < 0.0 && f.z1 <= d && d < f.z0) tally[i][Eu] += f.w;
+        const auto [lo, hi] = layers[i];
+        double ta = 0.0, tb = 0.0;
+        if (f.uz == 0.0) {
+            if (f.z0 >= lo && f.z0 <= hi) tb = f.s;
+        } else {
+            ta = (lo - f.z0) / f.uz;
+            tb = (hi - f.z0) / f.uz;
+            if (ta > tb) std::swap(ta, tb);
+            ta = std::max(ta, 0.0);
+            tb = std::min(tb, f.s);
+        }
+        if (tb > ta) tally[i][f.uz >= 0.0 ? Eod : Eou] += f.w * (tb - ta) / thickness;
+    }
+}
+}  // namespace
+
+TEST_CASE("Irradiance layers: skipping the layers a flight misses changes no tally") {
+    const std::vector<double> depths{0.0, 0.5, 1.0, 5.0, 29.99};
+    const double thickness = 0.02, floor_depth = 30.0;
+    const IrradianceLayers layers(depths, thickness, floor_depth);
+    // The layers and planes as the constructor places them.
+    std::vector<std::pair<double, double>> lh;
+    std::vector<double> planes;
+    for (double z : depths) {
+        const double lo = std::min(std::max(0.0, z - 0.5 * thickness), floor_depth - thickness);
+        lh.push_back({lo, lo + thickness});
+        planes.push_back(std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12));
+    }
+    // Random flights, and flights ending within a few ulps of a layer edge (from either side,
+    // either direction), where skipping would be wrong if its margin were too small.
+    std::vector<Flight> flights;
+    PhotonRng rng(8, 0);
+    for (int k = 0; k < 200000; ++k) {
+        const double z0 = 6.0 * rng.uniform(), uz = 2.0 * rng.uniform() - 1.0, s = -std::log(rng.uniform());
+        flights.push_back({z0, z0 + uz * s, uz, s, 1.0});
+    }
+    for (const auto& [lo, hi] : lh)
+        for (double edge : {lo, hi})
+            for (int k = 0; k < 2000; ++k) {
+                const double uz = (rng.uniform() < 0.5 ? -1.0 : 1.0) * std::pow(rng.uniform(), 4);
+                double s = std::abs(0.3 * rng.uniform() / uz);
+                double end = std::nextafter(edge, k % 2 ? 1e9 : -1e9);
+                for (int j = 0; j < k % 5; ++j) end = std::nextafter(end, k % 2 ? 1e9 : -1e9);
+                const double z0 = std::max(0.0, end - uz * s);
+                s = (end - z0) / uz;
+                if (!(s > 0.0)) continue;
+                flights.push_back({z0, z0 + uz * s, uz, s, 1.0});
+            }
+    flights.push_back({1.0, 1.0, 0.0, 2.0, 1.0});     // horizontal, inside a layer
+    flights.push_back({0.7, 0.7, 0.0, 2.0, 1.0});     // horizontal, outside
+    long nonzero = 0;
+    for (const Flight& f : flights) {
+        std::vector<IrradianceTally> a(depths.size()), b(depths.size());
+        layers.record(f, NoAbsorption{}, a.data());
+        reference_record(planes, lh, thickness, f, b.data());
+        for (std::size_t i = 0; i < depths.size(); ++i) {
+            nonzero += b[i][Eod] + b[i][Eou] > 0.0;
+            for (int k = 0; k < 4; ++k)
+                if (a[i][k] != b[i][k]) FAIL("z0 " << f.z0 << " uz " << f.uz << " s " << f.s << ": layer " << i);
+        }
+    }
+    CHECK(nonzero > 1000);
+}
+
+TEST_CASE("Record chunks keep every record, in order") {
+    detail::RecordChunks<FullRecord> chunks;
+    std::vector<FullRecord> expected;
+    for (int i = 0; i < 5000; ++i) {  // 3.05 chunks of 1638 records
+        const FullRecord r = FullRecord::make({i, 0.5 * i, 1.0}, {0.0, 0.0, 1.0}, 0, static_cast<std::uint8_t>(i));
+        chunks.push_back(r);
+        expected.push_back(r);
+    }
+    CHECK(chunks.size() == 5000);
+    detail::RecordChunks<FullRecord> moved(std::move(chunks));
+    std::vector<FullRecord> out{expected[7]};
+    moved.move_to(out);
+    REQUIRE(out.size() == 5001);
+    for (int i = 0; i < 5000; ++i) REQUIRE(out[i + 1].position() == expected[i].position());
+    CHECK(moved.size() == 0);
+}
+
+TEST_CASE("Homogeneous water samples the phase function's direction without its density") {
+    const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, HenyeyGreensteinPhase(0.8));
+    static_assert(depth_independent<HomogeneousWater<HenyeyGreensteinPhase>>);
+    for (double u : {1e-9, 0.2, 0.5, 0.999}) {
+        const PhaseSample s = water.sample_phase(3.0, u, 0.7);
+        const PhaseDirection d = scattering_direction(water, 3.0, u, 0.7);
+        CHECK(d.cos_psi == s.cos_psi);
+        CHECK(d.phi == s.phi);
+    }
 }
 
 TEST_CASE("Invalid transport settings are rejected by name") {

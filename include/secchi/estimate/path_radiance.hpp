@@ -16,6 +16,8 @@
 #include "secchi/optics/phase/chord_table.hpp"
 #include "secchi/transport/importance.hpp"
 #include "secchi/transport/parallel.hpp"
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -72,7 +74,11 @@ public:
     PathRadianceEstimator(const Store& store, Volume volume, Optics optics, double flux_per_photon, unsigned batches,
                           Radius radius)
         : store_(store), volume_(std::move(volume)), optics_(std::move(optics)), flux_(flux_per_photon),
-          batches_(batches), radius_(radius) {}
+          batches_(batches), radius_(radius) {
+        require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
+    }
+
+    static constexpr unsigned max_batches = 256;  ///< as TransportSettings allows
 
     /// Adds the per-batch photon sums of one ray (light arriving at ray.origin travelling
     /// opposite to ray.direction) to batch_sums; returns the photons touched.
@@ -94,7 +100,13 @@ public:
     RadianceEstimate estimate(const std::vector<Ray>& rays, unsigned threads) const {
         std::vector<std::vector<double>> per_ray(rays.size(), std::vector<double>(batches_, 0.0));
         std::vector<std::uint64_t> touched(rays.size(), 0);
-        parallel_for(rays.size(), threads, [&](std::size_t i) { touched[i] = accumulate(rays[i], per_ray[i]); });
+        parallel_for(rays.size(), threads, [&](std::size_t i) {
+            // Sums on this thread's stack, copied out once: the rays' own vectors may share a
+            // cache line with a neighbour's that another thread is adding to.
+            std::array<double, max_batches> sums{};
+            touched[i] = accumulate(rays[i], std::span(sums.data(), batches_));
+            std::copy_n(sums.begin(), batches_, per_ray[i].begin());
+        });
         std::vector<double> batch(batches_, 0.0);
         RadianceEstimate out;
         for (std::size_t i = 0; i < rays.size(); ++i) {

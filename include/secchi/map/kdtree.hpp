@@ -7,8 +7,10 @@
 // ch. 6; manual 3.4.1). Each internal node splits its subset at the median along the axis
 // of largest extent of the subset (manual 3.4.1: "the key with the largest spread");
 // records in the left subtree have coordinate <= the node's, records in the right subtree
-// >= it (ties may go either way, so queries treat both sides as closed). Jensen keeps the split axis inside the photon; the 16-byte CompactRecord has
-// no spare bits, so the axes live in a side array of uint8_t, 2 bits per internal node
+// >= it (ties may go either way, so queries treat both sides as closed). Jensen keeps the
+// split axis inside the photon: so does this tree for a TaggedRecord (the CompactRecord's two
+// spare bits, map/record.hpp), and the tree costs no memory beside the records (16 bytes
+// per photon). Other records keep the axes in a side array, 2 bits per internal node
 // (leaves, the last half of the heap, need none): 1/8 byte per photon.
 //
 // Build: deterministic (std::nth_element on a fixed input order, no randomness).
@@ -57,13 +59,16 @@ public:
     [[nodiscard]] std::size_t size() const { return heap_.size(); }
     /// The records in the tree's (heap) order; Hit::index refers to this order.
     [[nodiscard]] const std::vector<Record>& records() const { return heap_; }
-    /// Records plus the split-axis array (the root box is a member, not allocated).
+    /// Records plus the split-axis array, if any (the root box is a member, not allocated).
     [[nodiscard]] std::size_t memory_bytes() const {
         return heap_.capacity() * sizeof(Record) + axes_.capacity() * sizeof(std::uint8_t);
     }
 
     /// Split axis (0, 1, 2) of internal node i (one with a child: 2i + 1 < size()).
-    [[nodiscard]] int split_axis(std::size_t i) const { return (axes_[i >> 2] >> (2 * (i & 3))) & 3; }
+    [[nodiscard]] int split_axis(std::size_t i) const {
+        if constexpr (TaggedRecord<Record>) return heap_[i].store_tag();
+        else return (axes_[i >> 2] >> (2 * (i & 3))) & 3;
+    }
     [[nodiscard]] bool is_internal(std::size_t i) const { return 2 * i + 1 < heap_.size(); }
 
     /// Every record at distance <= r from p (Jensen 2001, "locate_photons", made iterative:
@@ -200,15 +205,18 @@ private:
         return extent.y >= extent.z ? 1 : 2;
     }
 
-    void set_split_axis(std::size_t i, int axis) {
-        axes_[i >> 2] = static_cast<std::uint8_t>(axes_[i >> 2] | (axis << (2 * (i & 3))));
+    /// Records the split axis of node i, whose record is records[at] during build(): in the
+    /// record itself when it has room, else in the side array.
+    void set_split_axis(std::vector<Record>& records, std::size_t i, std::size_t at, int axis) {
+        if constexpr (TaggedRecord<Record>) records[at].set_store_tag(static_cast<std::uint8_t>(axis));
+        else axes_[i >> 2] = static_cast<std::uint8_t>(axes_[i >> 2] | (axis << (2 * (i & 3))));
     }
 
     /// Balances `records` in place (median partitions, each subtree a contiguous range), then
     /// gathers them into heap order. heap_node[i] is the position of node i's record.
     void build(std::vector<Record>& records) {
         const std::size_t n = records.size();
-        axes_.assign((n / 2 + 3) / 4, 0);  // n / 2 internal nodes, 4 per byte
+        if constexpr (!TaggedRecord<Record>) axes_.assign((n / 2 + 3) / 4, 0);  // n / 2 internal nodes, 4 per byte
         std::vector<std::uint32_t> heap_node(n);
         struct Task {
             std::uint32_t node, begin, end;
@@ -223,7 +231,7 @@ private:
                 const int axis = widest_axis(records, task.begin, task.end);
                 std::nth_element(records.begin() + task.begin, records.begin() + median, records.begin() + task.end,
                                  [axis](const Record& a, const Record& b) { return a.position()[axis] < b.position()[axis]; });
-                set_split_axis(task.node, axis);
+                set_split_axis(records, task.node, median, axis);
                 tasks.push_back({2 * task.node + 1, task.begin, median});
                 if (median + 1 < task.end) tasks.push_back({2 * task.node + 2, median + 1, task.end});
             }
@@ -236,7 +244,7 @@ private:
     static bool is_internal_of(std::size_t i, std::size_t n) { return 2 * i + 1 < n; }
 
     std::vector<Record> heap_;         ///< records in left-balanced heap order
-    std::vector<std::uint8_t> axes_;   ///< split axis of internal node i: 2 bits at i / 4
+    std::vector<std::uint8_t> axes_;   ///< split axis of internal node i: 2 bits at i / 4 (untagged records)
     detail::Box bounds_{};             ///< bounding box of all positions (the root's box)
 };
 

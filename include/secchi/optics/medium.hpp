@@ -36,6 +36,18 @@ double albedo_at(const M& m, double z) {
     return c > 0.0 ? m.coefficient(Coefficient::scattering, z) / c : 0.0;
 }
 
+/// The scattering direction sample_phase(z, u1, u2) gives, without the density where the
+/// medium can skip it (transport never uses it).
+template <Medium M>
+PhaseDirection scattering_direction(const M& m, double z, double u1, double u2) {
+    if constexpr (requires { { m.sample_direction(z, u1, u2) } -> std::same_as<PhaseDirection>; }) {
+        return m.sample_direction(z, u1, u2);
+    } else {
+        const PhaseSample s = m.sample_phase(z, u1, u2);
+        return {s.cos_psi, s.phi};
+    }
+}
+
 template <PhaseFunction Phase>
 class HomogeneousWater {
 public:
@@ -69,10 +81,19 @@ public:
         return v > 0.0 ? tau / v : INFINITY;
     }
     [[nodiscard]] PhaseSample sample_phase(double /*z*/, double u1, double u2) const { return phase_.sample(u1, u2); }
+    [[nodiscard]] PhaseDirection sample_direction(double /*z*/, double u1, double u2) const {
+        return sample_direction_of(phase_, u1, u2);
+    }
 
 private:
     double a_, b_;
     Phase phase_;
 };
+
+/// Media whose coefficients do not depend on depth: the transport may evaluate them once.
+template <class M>
+inline constexpr bool depth_independent = false;
+template <class Phase>
+inline constexpr bool depth_independent<HomogeneousWater<Phase>> = true;
 
 }  // namespace secchi

@@ -19,6 +19,7 @@
 #include "secchi/transport/ledger.hpp"
 #include "secchi/transport/parallel.hpp"
 #include "secchi/transport/settings.hpp"
+#include <algorithm>
 #include <vector>
 
 namespace secchi {
@@ -43,12 +44,39 @@ struct Block {
     unsigned batch;
 };
 
+/// A block's records in chunks of fixed capacity (64 kB): appending never moves stored
+/// records, as one growing vector would (copying each about once more, into fresh pages);
+/// the merge copies each record once into the result.
+template <class Record>
+class RecordChunks {
+public:
+    void push_back(const Record& r) {
+        if (chunks_.empty() || chunks_.back().size() == per_chunk) [[unlikely]]
+            chunks_.emplace_back().reserve(per_chunk);
+        chunks_.back().push_back(r);
+    }
+    [[nodiscard]] std::size_t size() const {
+        std::size_t n = 0;
+        for (const auto& c : chunks_) n += c.size();
+        return n;
+    }
+    /// Appends the records to `out` in order and frees the chunks.
+    void move_to(std::vector<Record>& out) {
+        for (const auto& c : chunks_) out.insert(out.end(), c.begin(), c.end());
+        std::vector<std::vector<Record>>().swap(chunks_);
+    }
+
+private:
+    static constexpr std::size_t per_chunk = std::max<std::size_t>(1, 65536 / sizeof(Record));
+    std::vector<std::vector<Record>> chunks_;
+};
+
 template <class Record>
 struct BlockResult {
     std::vector<IrradianceTally> tally;  // per depth
     double bottom_ed = 0;
     EnergyLedger ledger;
-    std::vector<Record> records;
+    RecordChunks<Record> records;
 };
 
 inline std::vector<Block> make_blocks(std::uint64_t photons, unsigned batches, std::uint64_t block_size) {
@@ -69,7 +97,7 @@ public:
         : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(validated(std::move(settings))),
           layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
           continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
-          levels_(s_.importance, medium) {}
+          levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)) {}
 
     TransportResult<Record> run() const {
         const auto blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
@@ -81,6 +109,8 @@ public:
 private:
     static TransportSettings validated(TransportSettings s) {
         s.validate();
+        require(s.batches <= record_max_batches<Record>(), "batches", s.batches,
+                "exceeds what the photon record can label (CompactRecord: 64)");
         return s;
     }
 
@@ -246,7 +276,9 @@ private:
             out.ledger.truncated += p.w;
             return false;
         }
-        const double w0 = albedo_at(medium_, p.pos.z);
+        double w0;
+        if constexpr (depth_independent<M>) w0 = w0_;
+        else w0 = albedo_at(medium_, p.pos.z);
         if (s_.absorption == AbsorptionMode::implicit_capture) {
             out.ledger.absorbed += p.w * (1.0 - w0);
             p.w *= w0;
@@ -257,7 +289,7 @@ private:
         if (slot.stores) store_event(p, rng, out, slot.batch);
         ++p.order;
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        const PhaseSample ps = medium_.sample_phase(p.pos.z, u1, u2);
+        const PhaseDirection ps = scattering_direction(medium_, p.pos.z, u1, u2);
         p.dir = rotate_direction(p.dir, ps.cos_psi, ps.phi);
         return roulette(p, rng, out.ledger);
     }
@@ -310,8 +342,7 @@ private:
             batch_bottom[blk.batch] += res.bottom_ed;
             batch_photons[blk.batch] += static_cast<double>(blk.end - blk.begin);
             r.ledger += res.ledger;
-            r.records.insert(r.records.end(), res.records.begin(), res.records.end());
-            std::vector<Record>().swap(res.records);
+            res.records.move_to(r.records);
         }
         const double ed0 = sun_.plane_irradiance();
         std::vector<double> values(s_.batches);
@@ -345,6 +376,7 @@ private:
     IrradianceLayers layers_;
     bool continuous_, importance_on_;
     ImportanceLevels levels_;
+    double w0_;  ///< the albedo of a depth-independent medium
 };
 
 }  // namespace secchi

@@ -30,11 +30,15 @@ public:
     /// mu = (s + g (3 + s^2)/2 + g^2 s + g^3 (s^2 - 1)/2) / (1 + g s)^2,
     /// which has no 0/0 as g -> 0 (it gives mu = s, isotropic) and gives mu = +-1 at s = +-1.
     PhaseSample sample(double u1, double u2) const {
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
+    }
+    /// The direction of sample(u1, u2) without its density (what transport needs).
+    PhaseDirection sample_direction(double u1, double u2) const {
         const double s = 2.0 * u1 - 1.0, g = g_;
         const double num = s + 0.5 * g * (3.0 + s * s) + g * g * s + 0.5 * g * g * g * (s * s - 1.0);
         const double den = (1.0 + g * s) * (1.0 + g * s);
-        const double mu = std::clamp(num / den, -1.0, 1.0);
-        return {mu, two_pi * u2, pdf(mu)};
+        return {std::clamp(num / den, -1.0, 1.0), two_pi * u2};
     }
 
     double g() const { return g_; }

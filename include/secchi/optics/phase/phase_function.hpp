@@ -34,6 +34,31 @@ concept PhaseFunction = requires(const P p, double mu, double u1, double u2) {
     { p.name() } -> std::convertible_to<std::string>;
 };
 
+/// A sampled scattering direction alone (what transport needs): the first two fields of the
+/// PhaseSample the same uniforms give.
+struct PhaseDirection {
+    double cos_psi;
+    double phi;
+};
+
+/// A phase function may sample the direction without its density (which costs an acos and a
+/// table search for a tabulated function). sample_direction(u1, u2) must return exactly the
+/// cos_psi and phi of sample(u1, u2).
+template <class P>
+concept HasDirectionSampler = requires(const P p, double u1, double u2) {
+    { p.sample_direction(u1, u2) } -> std::same_as<PhaseDirection>;
+};
+
+template <class P>
+PhaseDirection sample_direction_of(const P& p, double u1, double u2) {
+    if constexpr (HasDirectionSampler<P>) {
+        return p.sample_direction(u1, u2);
+    } else {
+        const PhaseSample s = p.sample(u1, u2);
+        return {s.cos_psi, s.phi};
+    }
+}
+
 /// A phase function may list the angles (radians) where it has kinks (table nodes); the
 /// integrator then puts panel boundaries there so each panel sees a smooth integrand.
 template <class P>

@@ -22,7 +22,9 @@
 // Either way the table is then divided by its exact integral, raw_integral(), so that
 // 2 pi int p sin dpsi = 1.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -51,6 +53,38 @@ inline double x_minus_sin(double x) {
 inline double x_over_sin(double x) { return std::abs(x) < 1e-4 ? 1.0 + x * x / 6.0 : x / std::sin(x); }
 /// sin of an angle in [0, pi], exactly 0 at 0 and at pi.
 inline double sin_angle(double theta) { return theta <= 0.5 * pi ? std::sin(theta) : std::sin(pi - theta); }
+
+/// Guide table (Chen and Asau 1974) for inverting a cumulative table cum_0 <= ... <= cum_n
+/// (n >= 1) at target = u cum_n, u in [0, 1]: the i <= n - 1 with cum_i <= target < cum_{i+1},
+/// exactly as min(upper_bound(cum, target) - 1, n - 1), in O(1) on average. Bucket b of u,
+/// [b/G, (b+1)/G) with G a power of 2, stores the answer for target (b/G) cum_n. As u >= b/G
+/// exactly and rounding is monotone, every target of the bucket has that answer or a later
+/// one, and a forward scan over cum finds it: 1 + n/G steps on average.
+class CumulativeGuide {
+public:
+    CumulativeGuide() = default;
+    explicit CumulativeGuide(const std::vector<double>& cum)
+        : start_(std::clamp<std::size_t>(std::bit_ceil(4 * cum.size()), 64, std::size_t{1} << 14)) {
+        const double g = static_cast<double>(start_.size());
+        for (std::size_t b = 0; b < start_.size(); ++b)
+            start_[b] = static_cast<std::uint32_t>(upper_bound_index(cum, (static_cast<double>(b) / g) * cum.back()));
+    }
+    /// For target = u * cum.back() >= cum.front() (cum as given to the constructor).
+    [[nodiscard]] std::size_t find(const std::vector<double>& cum, double u, double target) const {
+        const double g = static_cast<double>(start_.size()), scaled = u * g;  // exact
+        std::size_t i = start_[scaled >= 0.0 ? static_cast<std::size_t>(std::min(scaled, g - 1.0)) : 0];
+        while (i + 2 < cum.size() && cum[i + 1] <= target) ++i;
+        return i;
+    }
+    /// The reference: min(upper_bound(cum, target) - 1, n - 1), 0 below cum_0.
+    static std::size_t upper_bound_index(const std::vector<double>& cum, double target) {
+        const auto it = std::upper_bound(cum.begin(), cum.end(), target);
+        return it == cum.begin() ? 0 : std::min<std::size_t>(static_cast<std::size_t>(it - cum.begin()) - 1, cum.size() - 2);
+    }
+
+private:
+    std::vector<std::uint32_t> start_;  // per bucket of u: where the scan starts
+};
 }  // namespace detail
 
 class TabulatedPhase {
@@ -77,6 +111,7 @@ public:
         raw_ = cum_.back();
         require(std::isfinite(raw_) && raw_ > 0.0, "table integral", raw_,
                 "the table has no positive, finite integral under this convention");
+        guide_ = detail::CumulativeGuide(cum_);
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -84,29 +119,33 @@ public:
     /// cosine rounds to 1, so that eval/pdf stay finite for every sample.
     double eval(double cos_psi) const {
         const double mu = std::clamp(cos_psi, -1.0, 1.0);
-        const double psi = std::acos(mu), comp = std::acos(-mu);  // comp = pi - psi, accurate
+        const double psi = std::acos(mu);
         if (psi < theta_[0]) {
             if (mu >= 1.0) return power_mass(cap_psi) / (pi * cap_psi * cap_psi) / raw_;
             return p_[0] * std::pow(theta_[0] / psi, k_) * detail::x_over_sin(psi) / raw_;
         }
-        return segment_density(segment_of(psi), psi, comp) / raw_;
+        return segment_density(segment_of(psi), psi, mu) / raw_;
     }
     double pdf(double cos_psi) const { return eval(cos_psi); }
 
     /// u1 picks the segment from the exact cumulative integral and the angle within it by
-    /// inverting that segment's CDF; phi = 2 pi u2.
+    /// inverting that segment's CDF; phi = 2 pi u2. The pdf is that of the returned direction,
+    /// pdf(cos psi) (at small psi the rounding of cos psi moves the angle by ~1e-16/psi).
     PhaseSample sample(double u1, double u2) const {
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
+    }
+    /// The direction of sample(u1, u2) without its density (what transport needs).
+    PhaseDirection sample_direction(double u1, double u2) const {
         const double target = u1 * raw_;
         double psi;
         if (target < cum_[0]) {
             psi = theta_[0] * std::pow(target / cum_[0], 1.0 / (2.0 - k_));
         } else {
-            const auto it = std::upper_bound(cum_.begin(), cum_.end(), target);
-            const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(it - cum_.begin()) - 1, theta_.size() - 2);
+            const std::size_t i = guide_.find(cum_, u1, target);
             psi = std::min(theta_[i] + invert_segment(i, target - cum_[i]), theta_[i + 1]);
         }
-        const double mu = std::cos(psi);
-        return {mu, two_pi * u2, pdf(mu)};
+        return {std::cos(psi), two_pi * u2};
     }
 
     /// Probability that the scattering angle is below psi (radians), exact.
@@ -170,13 +209,14 @@ private:
                          t * (std::sin(psi) * 2.0 * sh * sh - std::cos(psi) * detail::x_minus_sin(d)));
     }
 
-    /// Unnormalised density per sr at psi in segment i; comp = pi - psi. Where sin(psi) -> 0
-    /// (a node at 0 or at pi) the trapezoid f vanishes too and the ratio is taken in the limit.
-    double segment_density(std::size_t i, double psi, double comp) const {
+    /// Unnormalised density per sr at psi = acos(mu) in segment i. Where sin(psi) -> 0 (a
+    /// node at 0 or at pi) the trapezoid f vanishes too and the ratio is taken in the limit
+    /// (at pi with pi - psi = acos(-mu), accurate there).
+    double segment_density(std::size_t i, double psi, double mu) const {
         const double h = width(i), dl = psi - theta_[i], dr = theta_[i + 1] - psi;
         if (convention_ == TabulatedConvention::linear_p) return (p_[i] * dr + p_[i + 1] * dl) / h;
         if (theta_[i] == 0.0) return f_[i + 1] / (two_pi * h) * detail::x_over_sin(psi);
-        if (theta_[i + 1] == pi) return f_[i] / (two_pi * h) * detail::x_over_sin(comp);
+        if (theta_[i + 1] == pi) return f_[i] / (two_pi * h) * detail::x_over_sin(std::acos(-mu));
         return (f_[i] * dr + f_[i + 1] * dl) / (h * two_pi * std::sin(psi));
     }
 
@@ -212,6 +252,7 @@ private:
     double k_;
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
+    detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
 };
 
