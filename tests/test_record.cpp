@@ -122,3 +122,17 @@ TEST_CASE("compact records keep position, band and batch; the direction decodes 
     const vec3 d = r.direction();
     CHECK(std::acos(glm::dot(d, glm::normalize(vec3(1.0, 1.0, 1.0)))) < 0.5 * pi / 256.0 + 1e-12);
 }
+
+TEST_CASE("a compact record's store tag lives beside its batch without changing it") {
+    CompactRecord r = CompactRecord::make({1.0, 2.0, 3.0}, vec3(0.0, 0.0, 1.0), 5, 63);
+    CHECK(r.store_tag() == 0);
+    for (std::uint8_t tag : {3, 1, 2, 0}) {
+        r.set_store_tag(tag);
+        CHECK(r.store_tag() == tag);
+        CHECK(r.batch() == 63);
+        CHECK(r.band() == 5);
+        CHECK(r.position() == vec3(1.0, 2.0, 3.0));
+    }
+    CHECK(record_max_batches<CompactRecord>() == 64);
+    CHECK(record_max_batches<FullRecord>() == 256);
+}

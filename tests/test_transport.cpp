@@ -241,6 +241,17 @@ TEST_CASE("Invalid transport settings are rejected by name") {
     s.batches = 4;
     s.map_photons = 11;
     REQUIRE_THROWS_WITH(s.validate(), Catch::Contains("map photons"));
+    // The compact record labels 64 batches (its batch byte also holds a store tag).
+    s.map_photons = s.photons = 1000;
+    s.batches = 65;
+    const auto water = HomogeneousWater<IsotropicPhase>::from_albedo(1.0, 0.5, IsotropicPhase{});
+    const auto tracer = [&] {
+        return PhotonTracer<HomogeneousWater<IsotropicPhase>, CompactRecord>(water, Slab(1.0, Bottom{}, 10.0),
+                                                                             FlatSurface(1.34), CollimatedSun(0.0), s);
+    };
+    REQUIRE_THROWS_WITH(tracer(), Catch::Contains("batches = 65"));
+    s.batches = 64;
+    REQUIRE_NOTHROW(tracer());
 }
 
 TEST_CASE("A detector on a Lambertian bottom sees Eu = A Ed (exact with weighted photons)") {
