@@ -1,12 +1,15 @@
 #pragma once
 // Checks shared by the phase-function tests: the sampling histogram (spfhist, manual 7.3.4,
 // as a chi-square test against 99.9 % quantiles), normalisation and pdf == eval for any
-// PhaseFunction, the closed-form HG backscatter fraction, and input_error messages.
+// PhaseFunction, sample_direction == sample()'s direction bit for bit, the closed-form HG
+// backscatter fraction, and input_error messages.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <string>
 #include <vector>
 
@@ -106,7 +109,35 @@ void check_sampling(const P& p, std::uint64_t seed) {
     CHECK(h.chi2_phi < h.limit_phi);
 }
 
-/// The checks (a)-(c) every phase function must pass.
+/// Bitwise equality of doubles (tells -0.0 from 0.0; a NaN equals the same NaN).
+inline bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+/// (d): sample_direction_of(p, u1, u2), i.e. p.sample_direction where p has one, is exactly
+/// the cos_psi and phi of p.sample(u1, u2), bit for bit, over n pairs of uniforms from
+/// PhotonRng and the extreme uniforms 2^-53 and 1 - 2^-53.
+template <class P>
+void check_direction_sampler(const P& p, std::uint64_t seed, int n = 10000) {
+    PhotonRng rng(seed, 1);
+    int mismatches = 0;
+    const auto compare = [&](double u1, double u2) {
+        const PhaseSample s = p.sample(u1, u2);
+        const PhaseDirection d = sample_direction_of(p, u1, u2);
+        if (same_bits(d.cos_psi, s.cos_psi) && same_bits(d.phi, s.phi)) return;
+        if (mismatches++ == 0)
+            UNSCOPED_INFO(std::setprecision(17) << "first mismatch at u1 = " << u1 << ", u2 = " << u2 << ": ("
+                                                << d.cos_psi << ", " << d.phi << ") != (" << s.cos_psi << ", "
+                                                << s.phi << ")");
+    };
+    for (double u1 : {0x1p-53, 0.5, 1.0 - 0x1p-53})
+        for (double u2 : {0x1p-53, 1.0 - 0x1p-53}) compare(u1, u2);
+    for (int i = 0; i < n; ++i) {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        compare(u1, u2);
+    }
+    CHECK(mismatches == 0);
+}
+
+/// The checks (a)-(d) every phase function must pass.
 template <class P>
 void check_phase_function(const P& p, std::uint64_t seed) {
     INFO(p.name());
@@ -118,6 +149,7 @@ void check_phase_function(const P& p, std::uint64_t seed) {
         CHECK(p.eval(mu) > 0.0);
     }
     check_sampling(p, seed);  // (c)
+    check_direction_sampler(p, seed);  // (d)
 }
 
 /// The message of the secchi::input_error that f() throws ("" if it throws nothing; any

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -296,9 +297,12 @@ TEST_CASE("AnyPhase holds every phase model and is itself a PhaseFunction") {
                 for (double mu : {-1.0, 0.0, 0.95}) CHECK(f.eval(mu) == p.eval(mu));
                 CHECK(f.sample(0.37, 0.6).cos_psi == Approx(p.sample(0.37, 0.6).cos_psi).epsilon(1e-15));
                 CHECK(f.breakpoints() == breakpoints_of(p));
+                static_assert(HasDirectionSampler<std::decay_t<decltype(p)>>);
             },
             all[i]);
+        check_direction_sampler(f, 800 + i);  // the visited sample_direction is sample()'s direction
     }
+    static_assert(HasDirectionSampler<AnyPhaseFunction>);
     check_sampling(AnyPhaseFunction{SchlickPhase(0.6)}, 701);
     // The command-line names of the new models.
     CHECK(std::holds_alternative<SchlickPhase>(parse_phase("schlick:0.5")));

@@ -4,10 +4,15 @@
 // choice, and unbiasedness of every transport option against a reference run. Statistical
 // checks use 4 measured standard errors, fixed in advance.
 #include <catch2/catch.hpp>
+#include "secchi/core/rng.hpp"
+#include "secchi/optics/phase/any_phase.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/transport/tracer.hpp"
+#include <bit>
+#include <cstdint>
 #include <random>
 
 using namespace secchi;
@@ -130,6 +135,37 @@ TEST_CASE("stratified water: the mixture picks component i with probability b_i 
         // eval is the same mixture.
         const double mix = (1.0 - z / 10.0) * HenyeyGreensteinPhase(0.8).eval(0.3) + z / 10.0 * HenyeyGreensteinPhase(-0.5).eval(0.3);
         CHECK(w.eval_phase(z, 0.3) == Approx(mix).epsilon(1e-13));
+    }
+}
+
+TEST_CASE("stratified water: sample_direction is the direction of sample_phase, bit for bit; its pdf is the mixture's") {
+    // Problem 3's kind of water: pure water (Rayleigh-like) and Petzold particles, b_i varying
+    // with depth and a jump at 4 m; and a single component (the branch without a choice).
+    DepthProfile p{{0.0, 2.0, 4.0, 4.0, 10.0},
+                   {0.05, 0.05, 0.05, 0.05, 0.05},
+                   {{0.003, 0.003, 0.003, 0.003, 0.003}, {0.0, 0.4, 1.2, 0.1, 0.3}}};
+    const StratifiedWater<AnyPhaseFunction> mix(p, {AnyPhaseFunction{pure_water_phase()}, AnyPhaseFunction{petzold_m93()}});
+    DepthProfile q{{0.0, 10.0}, {0.05, 0.05}, {{0.2, 0.5}}};
+    const StratifiedWater<TabulatedPhase> one(q, {petzold_m93()});
+    const auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
+    const auto check = [&](const auto& w, double z) {
+        INFO("z = " << z);
+        PhotonRng rng(17, 0);
+        int mismatches = 0;
+        for (int k = 0; k < 10000; ++k) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const PhaseSample s = w.sample_phase(z, u1, u2);
+            const PhaseDirection d = w.sample_direction(z, u1, u2);
+            const PhaseDirection t = scattering_direction(w, z, u1, u2);  // what the tracer calls
+            if (!same(d.cos_psi, s.cos_psi) || !same(d.phi, s.phi) || !same(t.cos_psi, d.cos_psi) || !same(t.phi, d.phi))
+                ++mismatches;
+            if (!same(s.pdf, w.eval_phase(z, s.cos_psi))) ++mismatches;  // the mixture's density, eq. 5.6
+        }
+        CHECK(mismatches == 0);
+    };
+    for (double z : {0.0, 0.7, 2.0, 3.3, 4.0, 6.5, 10.0, 25.0}) {
+        check(mix, z);
+        check(one, z);
     }
 }
 

@@ -16,8 +16,9 @@
 // depth changes by less than 1e-6 per metre travelled.
 //
 // The phase function at depth z is the mixture sum_i (b_i / b) p_i (manual eq. 5.5-5.6).
-// sample_phase picks component i with probability b_i(z) / b(z) using u1, then reuses u1
-// rescaled to its interval, so sampling still takes two uniforms.
+// sample_phase (and sample_direction, the same without the density) picks component i with
+// probability b_i(z) / b(z) using u1, then reuses u1 rescaled to its interval, so sampling
+// still takes two uniforms.
 //
 // How finely a smooth model (e.g. a Gaussian chlorophyll profile) must be sampled is the
 // caller's choice: linear interpolation errs by at most h^2 max|k''| / 8 for node spacing h.
@@ -96,15 +97,14 @@ public:
         return (depth_at_optical_depth(k, target) - z) / uz;
     }
 
-    /// Direction from the mixture at depth z (eq. 5.5-5.6).
+    /// Direction from the mixture at depth z (eq. 5.5-5.6), with the mixture's density there.
     [[nodiscard]] PhaseSample sample_phase(double z, double u1, double u2) const {
-        if (phases_.size() == 1) return phases_[0].sample(u1, u2);
-        std::array<double, max_components> w{};
-        const double target = u1 * weights(z, w);
-        double lo = 0.0;
-        std::size_t i = 0;
-        while (i + 1 < phases_.size() && target >= lo + w[i]) lo += w[i++];
-        return phases_[i].sample(std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53), u2);
+        const PhaseDirection d = sample_direction(z, u1, u2);
+        return {d.cos_psi, d.phi, eval_phase(z, d.cos_psi)};
+    }
+    /// The direction of sample_phase(z, u1, u2) without its density (what transport needs).
+    [[nodiscard]] PhaseDirection sample_direction(double z, double u1, double u2) const {
+        return choose_component(z, u1, [&](const Phase& p, double v) { return sample_direction_of(p, v, u2); });
     }
 
     /// sum_i (b_i(z) / b(z)) f(i): a mixture over the components at depth z (eq. 5.5-5.6),
@@ -133,6 +133,20 @@ public:
 
 private:
     static constexpr double horizontal = 1e-6;
+
+    /// The component choice of sample_phase: component i with probability b_i(z) / b(z) by
+    /// u1, then f(p_i, v) with u1 rescaled to v within i's interval (u1 itself when there is
+    /// one component).
+    template <class F>
+    [[nodiscard]] auto choose_component(double z, double u1, F&& f) const {
+        if (phases_.size() == 1) return f(phases_[0], u1);
+        std::array<double, max_components> w{};
+        const double target = u1 * weights(z, w);
+        double lo = 0.0;
+        std::size_t i = 0;
+        while (i + 1 < phases_.size() && target >= lo + w[i]) lo += w[i++];
+        return f(phases_[i], std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53));
+    }
 
     static int index(Coefficient k) { return k == Coefficient::absorption ? 0 : k == Coefficient::scattering ? 1 : 2; }
 

@@ -35,6 +35,10 @@ struct AnyPhaseFunction {
     PhaseSample sample(double u1, double u2) const {
         return std::visit([&](const auto& f) { return f.sample(u1, u2); }, p);
     }
+    /// The direction of sample(u1, u2) without its density, where the held type can skip it.
+    PhaseDirection sample_direction(double u1, double u2) const {
+        return std::visit([&](const auto& f) { return sample_direction_of(f, u1, u2); }, p);
+    }
     std::vector<double> breakpoints() const {
         return std::visit([](const auto& f) { return breakpoints_of(f); }, p);
     }

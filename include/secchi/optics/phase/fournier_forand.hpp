@@ -51,6 +51,8 @@ public:
     double eval(double cos_psi) const { return table_.eval(cos_psi); }
     double pdf(double cos_psi) const { return table_.pdf(cos_psi); }
     PhaseSample sample(double u1, double u2) const { return table_.sample(u1, u2); }
+    /// The direction of sample(u1, u2) without its density (the table's).
+    PhaseDirection sample_direction(double u1, double u2) const { return table_.sample_direction(u1, u2); }
     std::vector<double> breakpoints() const { return table_.breakpoints(); }
 
     /// The closed form (Mobley et al. 2002 eq. 5), 1/sr; infinite at cos_psi = 1.

@@ -13,9 +13,11 @@ public:
 
     /// mu uniform in (-1, 1) (dOmega = dmu dphi), phi uniform in (0, 2 pi).
     PhaseSample sample(double u1, double u2) const {
-        const double mu = 2.0 * u1 - 1.0;
-        return {mu, two_pi * u2, pdf(mu)};
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
     }
+    /// The direction of sample(u1, u2) without its density (what transport needs).
+    PhaseDirection sample_direction(double u1, double u2) const { return {2.0 * u1 - 1.0, two_pi * u2}; }
 
     std::string name() const { return "isotropic"; }
 };

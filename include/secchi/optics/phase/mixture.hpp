@@ -61,15 +61,20 @@ public:
     }
 
     /// Component i with cum_i <= u1 < cum_{i+1} (zero-weight components have empty
-    /// intervals), then that component sampled with (u1 - cum_i) / w_i and u2.
+    /// intervals), then that component sampled with (u1 - cum_i) / w_i and u2; the density
+    /// is the mixture's.
     PhaseSample sample(double u1, double u2) const {
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
+    }
+    /// The direction of sample(u1, u2) without its density (what transport needs): the
+    /// chosen component's direction, itself without density where the component can skip it.
+    PhaseDirection sample_direction(double u1, double u2) const {
         const auto it = std::upper_bound(cum_.begin() + 1, cum_.end() - 1, u1);
         std::size_t i = static_cast<std::size_t>(it - cum_.begin()) - 1;
         while (weights_[i] <= 0.0 && i > 0) --i;  // u1 == 1 lands past a trailing zero weight
         const double v = std::clamp((u1 - cum_[i]) / weights_[i], 0.0, 1.0);
-        PhaseSample s = components_[i].sample(v, u2);
-        s.pdf = pdf(s.cos_psi);
-        return s;
+        return sample_direction_of(components_[i], v, u2);
     }
 
     /// Normalised weights (sum 1).

@@ -19,10 +19,14 @@ public:
     /// mu = A - 1/A, A = cbrt(q/2 + sqrt(q^2/4 + 1)). The root is odd in q: solving for |q|
     /// avoids the cancellation in q/2 + sqrt(...) for q near -4.
     PhaseSample sample(double u1, double u2) const {
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
+    }
+    /// The direction of sample(u1, u2) without its density (what transport needs).
+    PhaseDirection sample_direction(double u1, double u2) const {
         const double q = 8.0 * u1 - 4.0, aq = std::abs(q);
         const double A = std::cbrt(0.5 * aq + std::sqrt(0.25 * aq * aq + 1.0));
-        const double mu = std::clamp(std::copysign(A - 1.0 / A, q), -1.0, 1.0);
-        return {mu, two_pi * u2, pdf(mu)};
+        return {std::clamp(std::copysign(A - 1.0 / A, q), -1.0, 1.0), two_pi * u2};
     }
 
     std::string name() const { return "rayleigh"; }

@@ -40,9 +40,13 @@ public:
     /// Exact inverse CDF. The CDF in mu, 2 pi k1 ((mu + 1) + k2 (mu^3 + 1)/3) = u, is the
     /// cubic k2 mu^3 + 3 mu = q with q = (2u - 1)(3 + k2), odd in mu and q.
     PhaseSample sample(double u1, double u2) const {
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
+    }
+    /// The direction of sample(u1, u2) without its density (what transport needs).
+    PhaseDirection sample_direction(double u1, double u2) const {
         const double q = (2.0 * u1 - 1.0) * (3.0 + k2_);
-        const double mu = std::copysign(solve_cubic(std::abs(q)), q);
-        return {mu, two_pi * u2, pdf(mu)};
+        return {std::copysign(solve_cubic(std::abs(q)), q), two_pi * u2};
     }
 
     double k1() const { return k1_; }

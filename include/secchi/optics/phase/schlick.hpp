@@ -34,9 +34,13 @@ public:
     /// solved and simplified with s = 2u - 1 it is the Moebius map mu = (s + k) / (1 + k s),
     /// which has no 0/0 as k -> 0 (isotropic, mu = s) and gives mu = +-1 at s = +-1.
     PhaseSample sample(double u1, double u2) const {
+        const PhaseDirection d = sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
+    }
+    /// The direction of sample(u1, u2) without its density (what transport needs).
+    PhaseDirection sample_direction(double u1, double u2) const {
         const double s = 2.0 * u1 - 1.0;
-        const double mu = std::clamp((s + k_) / (1.0 + k_ * s), -1.0, 1.0);
-        return {mu, two_pi * u2, pdf(mu)};
+        return {std::clamp((s + k_) / (1.0 + k_ * s), -1.0, 1.0), two_pi * u2};
     }
 
     /// g = 2 pi int p cos sin dpsi in closed form (series for small |k|, where the closed
