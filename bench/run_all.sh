@@ -6,7 +6,7 @@
 # machine, date and commands), secchi_bench.json, scaling.csv and scaling.svg (the log-log
 # plot, drawn by bench/plot_scaling.py with python3's standard library).
 # Benchmarks are never part of the test command; on the 2-core machine the full run takes
-# about 10-15 minutes (--quick: about 2).
+# about 4 minutes (--quick: about 1).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 build="${1:-build}"
