@@ -273,23 +273,6 @@ TEST_CASE("cone average of isotropic and Rayleigh functions") {
     }
 }
 
-TEST_CASE("cone average: the fast segment lookup is the bisection's, bit for bit") {
-    const ConeAveragedPhase<TabulatedPhase> cone(petzold_m93(), 0.005);
-    const auto psi = cone.breakpoints();
-    const auto& value = cone.tabulated_values();
-    PhotonRng rng(11, 0);
-    for (int k = 0; k < 200000; ++k) {
-        const double mu = k < 100 ? std::cos(psi[psi.size() - 1 - k]) : 2.0 * rng.uniform() - 1.0;
-        const double x = std::acos(mu);
-        const auto it = std::upper_bound(psi.begin(), psi.end(), x);
-        const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(it - psi.begin()) - 1, psi.size() - 2);
-        const double w = (x - psi[i]) / (psi[i + 1] - psi[i]);
-        const double expected = (1.0 - w) * value[i] + w * value[i + 1];
-        if (cone.eval(mu) != expected) FAIL("mu = " << mu << ": " << cone.eval(mu) << " != " << expected);
-    }
-    CHECK(cone.eval(-1.0) == value.back());
-}
-
 TEST_CASE("cone average of the Petzold function") {
     const double omega = 0.005;
     const TabulatedPhase p = petzold_m93();

@@ -40,7 +40,6 @@ public:
         psi_ = make_grid(n_log, n_uniform);
         const auto bps = breakpoints_of(p);
         for (double psi : psi_) value_.push_back(average(p, bps, psi));
-        index_uniform_part();
     }
 
     /// pbar at cos_psi (1/sr), linear interpolation in psi.
@@ -55,30 +54,15 @@ public:
     double half_angle() const { return alpha_; }
     /// The tabulation grid (radians): pbar is piecewise linear in psi between these angles.
     std::vector<double> breakpoints() const { return psi_; }
-    /// pbar at those angles.
-    const std::vector<double>& tabulated_values() const { return value_; }
     std::string name() const { return name_; }
 
 private:
-    /// The grid is uniform from 10 deg to 180 deg (where almost every collected photon falls):
-    /// there the segment is found by division, elsewhere by bisection. Either way it is the
-    /// last node at or below psi (capped at the last segment), so the result is the same.
-    void index_uniform_part() {
-        uniform_from_ = static_cast<std::size_t>(std::lower_bound(psi_.begin(), psi_.end(), 10.0 * deg) - psi_.begin());
-        const std::size_t last = psi_.size() - 1;
-        inverse_step_ = uniform_from_ < last ? double(last - uniform_from_) / (pi - psi_[uniform_from_]) : 0.0;
-    }
-
+    /// The segment [psi_i, psi_{i+1}] holding psi (the last one at psi = pi). Bisection: this
+    /// form is evaluated at construction and as the reference; the estimator's per-photon
+    /// lookups go through a ChordTable (chord_table.hpp).
     std::size_t segment_of(double psi) const {
-        const std::size_t last_segment = psi_.size() - 2;
-        if (inverse_step_ > 0.0 && psi >= psi_[uniform_from_]) {
-            std::size_t i = std::min(last_segment, uniform_from_ + static_cast<std::size_t>((psi - psi_[uniform_from_]) * inverse_step_));
-            while (i > uniform_from_ && psi_[i] > psi) --i;
-            while (i < last_segment && psi_[i + 1] <= psi) ++i;
-            return i;
-        }
         const auto it = std::upper_bound(psi_.begin(), psi_.end(), psi);
-        return std::min<std::size_t>(static_cast<std::size_t>(it - psi_.begin()) - 1, last_segment);
+        return std::min<std::size_t>(static_cast<std::size_t>(it - psi_.begin()) - 1, psi_.size() - 2);
     }
 
     std::vector<double> make_grid(std::size_t n_log, std::size_t n_uniform) const {
@@ -130,8 +114,6 @@ private:
     double alpha_ = 0.0;
     std::string name_;
     std::vector<double> psi_, value_;
-    std::size_t uniform_from_ = 0;  ///< first node of the uniform part (10 deg)
-    double inverse_step_ = 0.0;     ///< 1 / its spacing
 };
 
 }  // namespace secchi
