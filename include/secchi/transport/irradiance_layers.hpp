@@ -43,6 +43,9 @@ public:
             // A plane on the bottom itself counts the flux arriving at and leaving the bottom:
             // it sits a rounding margin above it, so flights ending or starting there cross it.
             planes_.push_back(std::isfinite(floor_depth) ? std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12) : z);
+            const auto [layer_lo, layer_hi] = layers_.back();
+            envelopes_.push_back({std::min(layer_lo, planes_.back()), std::max(layer_hi, planes_.back()),
+                                  std::abs(layer_lo) + std::abs(layer_hi)});
         }
     }
     [[nodiscard]] std::size_t size() const { return depths_.size(); }
@@ -59,22 +62,24 @@ public:
         auto weight_after = [&](double t) {
             return f.w * std::exp(-absorber.optical_path(Coefficient::absorption, f.z0, f.uz, t));
         };
-        // Depth range of the track, for skipping layers it misses without the divisions below.
-        const double z_end = f.z0 + f.uz * f.s;
-        const double z_min = std::min(f.z0, z_end), z_max = std::max(f.z0, z_end);
-        const double z_scale = std::abs(f.z0) + std::abs(z_end);
+        // Depth range of the track, for skipping the layers it misses before any test that
+        // depends on its direction (those branches are unpredictable; this one rarely fails).
+        const double z_min = std::min(f.z0, f.z1), z_max = std::max(f.z0, f.z1);
+        const double z_scale = std::abs(f.z0) + std::abs(f.z1);
         for (std::size_t i = 0; i < depths_.size(); ++i) {
+            const Envelope& e = envelopes_[i];
+            // A flight whose depths stay beyond the layer by more than the rounding of
+            // z0 + uz s and of the divisions in track_in_layer (< 1e-15 of the depths involved)
+            // has an empty track there, and one that does not reach the plane crosses nothing:
+            // skipping it changes no result.
+            const double margin = 1e-12 * (z_scale + e.depth_scale);
+            if (z_max < e.lo - margin || z_min > e.hi + margin) continue;
             const double d = planes_[i];
             // Half-open crossing rule: a flight starting on the plane going down counts as Ed,
             // one ending on it going up counts as Eu (so the surface plane z = 0 works).
             if (f.uz > 0.0 && f.z0 <= d && d < f.z1) tally[i][Ed] += weight_after((d - f.z0) / f.uz);
             if (f.uz < 0.0 && f.z1 <= d && d < f.z0) tally[i][Eu] += weight_after((d - f.z0) / f.uz);
             const auto [lo, hi] = layers_[i];
-            // A flight whose depths stay beyond the layer by more than the rounding of
-            // z0 + uz s and of the divisions in track_in_layer (< 1e-15 of the depths involved)
-            // has an empty track there: skipping it changes no result.
-            const double margin = 1e-12 * (z_scale + std::abs(lo) + std::abs(hi));
-            if (z_max < lo - margin || z_min > hi + margin) continue;
             const auto [ta, tb] = track_in_layer(f.z0, f.uz, f.s, lo, hi);
             if (tb > ta) {
                 const double a = absorber.coefficient(Coefficient::absorption, 0.5 * (lo + hi));
@@ -100,6 +105,11 @@ private:
     std::vector<double> depths_, planes_;
     double thickness_;
     std::vector<std::pair<double, double>> layers_;
+    /// The depths where a layer's tallies can change: its layer and its plane.
+    struct Envelope {
+        double lo, hi, depth_scale;  ///< depth_scale = |layer lo| + |layer hi|, for the margin
+    };
+    std::vector<Envelope> envelopes_;
 };
 
 }  // namespace secchi
