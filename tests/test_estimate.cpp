@@ -5,6 +5,8 @@
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/solver/plane_parallel.hpp"
+#include <atomic>
+#include <memory>
 
 using namespace secchi;
 
@@ -106,4 +108,129 @@ TEST_CASE("k-d tree spheres and the VOI cylinder give the same Lu within their c
         CHECK(a.se < 0.05 * a.value);
         CHECK(std::abs(a.value - b.value) <= std::hypot(a.se, b.se));
     }
+}
+
+// Vertical rays through a CompactRecord map take the coded path (PathRadianceEstimator:
+// cos psi from the photon's theta byte through a per-ray table); it must give the per-photon
+// formula's sums bit for bit. The reference is the same optics behind a wrapper offering only
+// in_scatter(z, cos_psi, ray, t), which the estimator can only use per photon.
+namespace {
+template <class O>
+struct PerPhotonOnly {
+    O optics;
+    [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
+        return optics.in_scatter(z, cos_psi, ray, t);
+    }
+};
+
+/// Counts the rays the estimator tabulated (for_cosines calls), else the optics unchanged.
+struct CountingOptics : HomogeneousRayOptics {
+    using HomogeneousRayOptics::HomogeneousRayOptics;
+    std::shared_ptr<std::atomic<int>> tabulated = std::make_shared<std::atomic<int>>(0);
+    [[nodiscard]] Coded for_cosines(const CodedCosines& cos_psi) const {
+        ++*tabulated;
+        return HomogeneousRayOptics::for_cosines(cos_psi);
+    }
+};
+
+static_assert(PolarCodedRecord<CompactRecord> && !PolarCodedRecord<FullRecord>);
+static_assert(CodedRayOptics<HomogeneousRayOptics> && CodedRayOptics<StratifiedRayOptics<StratifiedWater<HenyeyGreensteinPhase>>>);
+static_assert(RayOptics<PerPhotonOnly<HomogeneousRayOptics>> && !CodedRayOptics<PerPhotonOnly<HomogeneousRayOptics>>);
+
+/// Rays from z0 down (+z, also written with -0 x and y), up (-z) from z0 + 4, and tilted.
+std::vector<Ray> rays_every_way(double z0) {
+    std::vector<Ray> rays;
+    for (const Ray& r : nadir_ray_grid(z0, 4.0, 3, 1.0)) {
+        rays.push_back(r);
+        rays.push_back({r.origin, {-0.0, -0.0, 1.0}, r.t_max});
+        rays.push_back({r.origin + vec3(0.0, 0.0, 4.0), {0.0, 0.0, -1.0}, r.t_max});
+        rays.push_back({r.origin, glm::normalize(vec3(0.1, -0.05, 1.0)), r.t_max});
+        rays.push_back({r.origin + vec3(0.0, 0.0, 4.0), glm::normalize(vec3(-0.02, 0.0, -1.0)), r.t_max});
+    }
+    return rays;
+}
+
+/// Every ray's per-batch sums from `est` equal (==) those of `reference`, and photons were collected.
+template <class A, class B>
+void check_bit_identical(const A& est, const B& reference, unsigned batches, const std::vector<Ray>& rays) {
+    for (const Ray& ray : rays) {
+        std::vector<double> a(batches, 0.0), b(batches, 0.0);
+        const auto na = est.accumulate(ray, a);
+        const auto nb = reference.accumulate(ray, b);
+        INFO("ray from z " << ray.origin.z << " direction " << ray.direction.x << " " << ray.direction.y << " "
+                           << ray.direction.z);
+        CHECK(na > 100);
+        CHECK(na == nb);
+        CHECK(a == b);
+    }
+}
+
+template <class Water>
+TransportResult<CompactRecord> compact_map(const Water& water, std::uint64_t photons, DepthImportance importance = {}) {
+    TransportSettings s;
+    s.photons = s.map_photons = photons;
+    s.importance = importance;
+    s.depths = {1.0};
+    s.threads = 2;
+    const Slab slab(1.0, Bottom{}, 30.0);
+    return PhotonTracer<Water, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
+}
+}  // namespace
+
+TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-identical to the per-photon formula") {
+    const HenyeyGreensteinPhase hg(0.9);
+    const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
+    const auto map = compact_map(water, 40000);
+    const VoiOctreeStore<CompactRecord> voi(map.records);
+    const KdTreeStore<CompactRecord> kd(map.records);
+    const ConeAveragedPhase cone(hg, 0.005);
+    const HomogeneousRayOptics optics(cone, water.attenuation());
+    const PerPhotonOnly<HomogeneousRayOptics> per_photon{optics};
+    const auto rays = rays_every_way(1.0);
+    const Radius r(0.1);
+    SECTION("VOI cylinder") {
+        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches, r),
+                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
+    }
+    SECTION("k-d tree spheres") {
+        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, 1.0, map.batches, r),
+                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, 1.0, map.batches, r), map.batches, rays);
+    }
+    SECTION("the table is built once per vertical ray, never for tilted rays or full records") {
+        const CountingOptics counting(cone, water.attenuation());
+        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, 1.0, map.batches, r);
+        const auto vertical = est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2);
+        CHECK(*counting.tabulated == 9);
+        std::vector<Ray> tilted = nadir_ray_grid(1.0, 4.0, 3, 1.0);
+        for (Ray& ray : tilted) ray.direction = glm::normalize(vec3(1e-9, 0.0, 1.0));
+        CHECK(est.estimate(tilted, 2).photons_touched > 0);
+        CHECK(*counting.tabulated == 9);
+        std::vector<FullRecord> full;
+        for (const auto& rec : map.records) full.push_back(FullRecord::make(rec.position(), rec.direction(), rec.band(), rec.batch()));
+        const VoiOctreeStore<FullRecord> full_store(full);
+        const PathRadianceEstimator full_est(full_store, VoiCylinder{}, counting, 1.0, map.batches, r);
+        // The same photons with the same decoded directions, through the per-photon formula.
+        CHECK(full_est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2).radiance.value ==
+              Approx(vertical.radiance.value).epsilon(1e-12));
+        CHECK(*counting.tabulated == 9);
+    }
+}
+
+TEST_CASE("Vertical rays through a compact map in stratified water: per-component theta tables are bit-identical") {
+    // Two components whose weights change with depth, so the mixture matters; depth importance
+    // so photons carry different fluxes.
+    const DepthProfile profile{{0.0, 3.0, 20.0}, {0.1, 0.2, 0.05}, {{0.5, 0.1, 0.3}, {0.05, 0.6, 0.2}}};
+    const StratifiedWater<HenyeyGreensteinPhase> water(profile, {HenyeyGreensteinPhase(0.9), HenyeyGreensteinPhase(0.3)});
+    const DepthImportance importance{0.2, 5.0};
+    const auto map = compact_map(water, 10000, importance);
+    const VoiOctreeStore<CompactRecord> voi(map.records);
+    std::vector<ConeAveragedPhase<HenyeyGreensteinPhase>> cones;
+    for (const auto& p : water.phases()) cones.emplace_back(p, 0.005);
+    const StratifiedRayOptics optics(water, cones, ImportanceLevels(importance, water));
+    REQUIRE(optics.importance.level(5.0) > optics.importance.level(1.0));
+    const PerPhotonOnly<StratifiedRayOptics<StratifiedWater<HenyeyGreensteinPhase>>> per_photon{optics};
+    const Radius r(0.1);
+    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches, r),
+                        PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches,
+                        rays_every_way(1.0));
 }

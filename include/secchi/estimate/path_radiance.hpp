@@ -10,16 +10,30 @@
 // becomes exp(-int c dt) along the ray: the RayOptics policy supplies both.
 // Standard error: each photon belongs to one of B batches; each batch alone is an estimate
 // with flux B * Phi per photon.
+//
+// Vertical rays (every nadir or zenith ray, e.g. nadir_ray_grid's) through a map of records
+// whose direction stores its polar angle as a byte (CompactRecord): there cos psi depends on
+// that byte alone, so the optics may tabulate their angular part for the ray's 256 possible
+// values of cos psi once per ray (a few microseconds, against thousands of photons per ray)
+// and look it up per photon, skipping the direction decode, the dot product and the phase
+// function's interpolation. The result is bit-identical to the per-photon formula (see
+// detail::vertical_cosines for why); optics without the tabulated form, other records and
+// other rays take the per-photon formula.
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
+#include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/chord_table.hpp"
 #include "secchi/transport/importance.hpp"
 #include "secchi/transport/parallel.hpp"
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <ranges>
 #include <span>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace secchi {
@@ -37,6 +51,45 @@ concept RayOptics = requires(const O o, double z, double cos_psi, Ray ray, doubl
     { o.in_scatter(z, cos_psi, ray, t) } -> std::convertible_to<double>;
 };
 
+/// cos psi for each of the 256 values of a record's polar code, along one ray.
+using CodedCosines = std::array<double, 256>;
+
+/// Optics that can fix their angular part for one ray along which cos psi takes only the 256
+/// values cos_psi[k]: o.for_cosines(cos_psi) returns an object f (held for the ray) with
+///   f.in_scatter(z, k, ray, t) == o.in_scatter(z, cos_psi[k], ray, t)   bit for bit,
+/// for every code k and every z, ray, t. Optional: RayOptics without it stay on the per-photon path.
+template <class O>
+concept CodedRayOptics = RayOptics<O> && requires(const O o, const CodedCosines& cos_psi, double z,
+                                                  std::uint8_t k, Ray ray, double t) {
+    { o.for_cosines(cos_psi).in_scatter(z, k, ray, t) } -> std::convertible_to<double>;
+};
+
+namespace detail {
+/// A ray whose direction is (0, 0, +-1) exactly (as every normalised vertical vector is): the
+/// rays whose cos psi is a function of the photon's polar code alone (vertical_cosines). Not
+/// dz != 0 alone: with |dz| tiny, dz cos_theta could underflow to a zero whose sign the
+/// azimuth terms decide.
+inline bool is_vertical(const Ray& ray) {
+    return ray.direction.x == 0.0 && ray.direction.y == 0.0 && std::abs(ray.direction.z) == 1.0;
+}
+
+/// cos psi = -dot(d, u) of a photon of polar code k on a vertical ray u = (0, 0, uz), uz = +-1,
+/// for each k: -(cos_theta_k uz). It equals the per-photon formula bit for bit, whatever the
+/// photon's azimuth: GLM's dot for dvec3 is (dx ux + dy uy) + dz uz. With ux, uy = +-0 and
+/// dx, dy finite, dx ux and dy uy are zeros (of either sign) and so is their sum; dz uz = +-dz
+/// is exact and nonzero (|cos_theta_k| >= sin(pi/512) for the bin centres), and a zero added
+/// to a nonzero number gives that number exactly. Negation is exact. (Were the compiler to
+/// contract the dot into fused multiply-adds, fma(dy, uy, zero) is a zero and fma(dz, uz, zero)
+/// = dz uz exactly: the same.)
+template <PolarCodedRecord R>
+CodedCosines vertical_cosines(double uz) {
+    CodedCosines cos_psi{};
+    for (std::size_t k = 0; k < cos_psi.size(); ++k)
+        cos_psi[k] = -(PolarCode<R>::cosine(static_cast<std::uint8_t>(k)) * uz);
+    return cos_psi;
+}
+}  // namespace detail
+
 /// Homogeneous water: one cone-averaged phase function and exp(-c t). The phase function is
 /// looked up in a ChordTable (no acos per photon; optics/phase/chord_table.hpp).
 struct HomogeneousRayOptics {
@@ -46,6 +99,20 @@ struct HomogeneousRayOptics {
     double attenuation;
     [[nodiscard]] double in_scatter(double, double cos_psi, const Ray&, double t) const {
         return phase.eval(cos_psi) * std::exp(-attenuation * t);
+    }
+
+    /// For one ray with only 256 values of cos psi (CodedRayOptics): the phase function at each.
+    struct Coded {
+        CodedCosines phase;  ///< phase.eval(cos_psi[k])
+        double attenuation;
+        [[nodiscard]] double in_scatter(double, std::uint8_t k, const Ray&, double t) const {
+            return phase[k] * std::exp(-attenuation * t);
+        }
+    };
+    [[nodiscard]] Coded for_cosines(const CodedCosines& cos_psi) const {
+        Coded out{{}, attenuation};
+        for (std::size_t k = 0; k < cos_psi.size(); ++k) out.phase[k] = phase.eval(cos_psi[k]);
+        return out;
     }
 };
 
@@ -63,8 +130,42 @@ struct StratifiedRayOptics {
     ImportanceLevels importance;  ///< the first pass's (transport/importance.hpp)
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
         const double p = water.mixture(z, [&](std::size_t i) { return phases[i].eval(cos_psi); });
-        const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
-        return p * std::exp(-tau) / importance.factor(z);
+        return p * transmittance(ray, t) / importance.factor(z);
+    }
+
+    /// Up to this many components can be tabulated per ray (for_cosines); 0: none.
+    static constexpr std::size_t max_components = [] {
+        if constexpr (requires { Water::max_components; }) return std::size_t{Water::max_components};
+        else return std::size_t{0};
+    }();
+
+    /// For one ray with only 256 values of cos psi (CodedRayOptics): each component's phase
+    /// function at each; the mixture weights b_i(z) / b(z) stay per photon, as does the path.
+    struct Coded {
+        const StratifiedRayOptics& optics;
+        std::size_t components;  ///< phases tabulated per code
+        /// phase[k * components + i] = phases[i].eval(cos_psi[k]): one code's values together.
+        std::array<double, 256 * max_components> phase;
+        [[nodiscard]] double in_scatter(double z, std::uint8_t k, const Ray& ray, double t) const {
+            const double* pk = phase.data() + k * components;
+            const double p = optics.water.mixture(z, [&](std::size_t i) { return pk[i]; });
+            return p * optics.transmittance(ray, t) / optics.importance.factor(z);
+        }
+    };
+    [[nodiscard]] Coded for_cosines(const CodedCosines& cos_psi) const
+        requires(max_components > 0)
+    {
+        Coded out{*this, std::min(phases.size(), max_components), {}};
+        for (std::size_t k = 0; k < cos_psi.size(); ++k)
+            for (std::size_t i = 0; i < out.components; ++i)
+                out.phase[k * out.components + i] = phases[i].eval(cos_psi[k]);
+        return out;
+    }
+
+private:
+    /// exp(-int c dt) over the ray's first t metres.
+    [[nodiscard]] double transmittance(const Ray& ray, double t) const {
+        return std::exp(-water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t));
     }
 };
 
@@ -83,15 +184,12 @@ public:
     /// Adds the per-batch photon sums of one ray (light arriving at ray.origin travelling
     /// opposite to ray.direction) to batch_sums; returns the photons touched.
     std::uint64_t accumulate(const Ray& ray, std::span<double> batch_sums) const {
-        std::uint64_t touched = 0;
-        const auto& records = store_.records();
-        volume_.gather(store_, ray, radius_, [&](std::uint32_t index, double t, double weight) {
-            const auto& rec = records[index];
+        if constexpr (PolarCodedRecord<Record> && CodedRayOptics<Optics>)
+            if (detail::is_vertical(ray)) return accumulate_coded(ray, batch_sums);
+        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
             const double cos_psi = -glm::dot(rec.direction(), ray.direction);
-            batch_sums[rec.batch()] += weight * optics_.in_scatter(rec.position().z, cos_psi, ray, t);
-            ++touched;
+            return optics_.in_scatter(rec.position().z, cos_psi, ray, t);
         });
-        return touched;
     }
 
     /// Radiance averaged over a set of rays (e.g. a grid of parallel rays in a horizontally
@@ -121,6 +219,32 @@ public:
     }
 
 private:
+    using Record = std::remove_cvref_t<std::ranges::range_reference_t<decltype(std::declval<const Store&>().records())>>;
+
+    /// The same sum on a vertical ray: cos psi from the photon's polar code through a table
+    /// fixed for the ray (vertical_cosines; bit-identical to the per-photon formula).
+    std::uint64_t accumulate_coded(const Ray& ray, std::span<double> batch_sums) const
+        requires(PolarCodedRecord<Record> && CodedRayOptics<Optics>)
+    {
+        const auto coded = optics_.for_cosines(detail::vertical_cosines<Record>(ray.direction.z));
+        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
+            return coded.in_scatter(rec.position().z, PolarCode<Record>::of(rec), ray, t);
+        });
+    }
+
+    /// batch_sums[batch] += weight * in_scatter(record, t) over the photons the volume collects.
+    template <class InScatter>
+    std::uint64_t sum_photons(const Ray& ray, std::span<double> batch_sums, InScatter&& in_scatter) const {
+        std::uint64_t touched = 0;
+        const auto& records = store_.records();
+        volume_.gather(store_, ray, radius_, [&](std::uint32_t index, double t, double weight) {
+            const auto& rec = records[index];
+            batch_sums[rec.batch()] += weight * in_scatter(rec, t);
+            ++touched;
+        });
+        return touched;
+    }
+
     const Store& store_;
     Volume volume_;
     Optics optics_;

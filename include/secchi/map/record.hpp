@@ -153,6 +153,25 @@ struct CompactRecord {
 };
 static_assert(sizeof(CompactRecord) == 16, "the compact record must stay 16 bytes");
 
+/// The polar code of a record type: a byte k with direction().z == cosine(k) exactly (the
+/// second pass tabulates per vertical ray what depends on it: estimate/path_radiance.hpp).
+/// Specialised for the records that have one; the primary template says "none".
+template <class R>
+struct PolarCode {};
+
+/// CompactRecord's theta byte: its direction() has z = the decoding table's cos_theta[theta].
+template <>
+struct PolarCode<CompactRecord> {
+    static std::uint8_t of(const CompactRecord& r) { return r.theta; }
+    static double cosine(std::uint8_t k) { return detail::direction_tables().cos_theta[k]; }
+};
+
+template <class R>
+concept PolarCodedRecord = PhotonRecord<R> && requires(const R r, std::uint8_t k) {
+    { PolarCode<R>::of(r) } -> std::same_as<std::uint8_t>;
+    { PolarCode<R>::cosine(k) } -> std::same_as<double>;
+};
+
 /// Full-precision record (40 bytes): exact position and direction.
 struct FullRecord {
     vec3 pos;
