@@ -103,6 +103,24 @@ TEST_CASE("sin_cos is within 2 ulp of the correctly rounded sine and cosine") {
     REQUIRE(sin_cos(0.0).cos == 1.0);
 }
 
+TEST_CASE("exp_table is within 2 ulp of the correctly rounded exponential") {
+    PhotonRng rng(11, 4);
+    double worst = 0.0;
+    for (int i = 0; i < 400'000; ++i) {
+        // Transmittances (x in [-50, 0], and small |x|), then the whole finite range.
+        const double x = i < 200'000 ? -50.0 * rng.uniform() * (i % 2 ? 1.0 : 1e-6) : 1416.0 * rng.uniform() - 707.0;
+        const long double exact = std::exp(static_cast<long double>(x));
+        const double e = static_cast<double>(exact);
+        const double ulp = std::nextafter(e, INFINITY) - e;
+        worst = std::max(worst, static_cast<double>(std::abs(static_cast<long double>(exp_table(x)) - exact) / ulp));
+    }
+    REQUIRE(worst < 2.0);
+    REQUIRE(exp_table(0.0) == 1.0);
+    REQUIRE(exp_table(-800.0) == 0.0);
+    REQUIRE(exp_table(800.0) == INFINITY);
+    REQUIRE(std::isnan(exp_table(NAN)));
+}
+
 TEST_CASE("batch estimate") {
     std::vector<double> v{1, 2, 3, 4};
     const auto e = batch_estimate(v);

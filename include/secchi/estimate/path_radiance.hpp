@@ -98,7 +98,7 @@ struct HomogeneousRayOptics {
     ChordTable phase;
     double attenuation;
     [[nodiscard]] double in_scatter(double, double cos_psi, const Ray&, double t) const {
-        return phase.eval(cos_psi) * std::exp(-attenuation * t);
+        return phase.eval(cos_psi) * exp_table(-attenuation * t);
     }
 
     /// For one ray with only 256 values of cos psi (CodedRayOptics): the phase function at each.
@@ -106,7 +106,7 @@ struct HomogeneousRayOptics {
         CodedCosines phase;  ///< phase.eval(cos_psi[k])
         double attenuation;
         [[nodiscard]] double in_scatter(double, std::uint8_t k, const Ray&, double t) const {
-            return phase[k] * std::exp(-attenuation * t);
+            return phase[k] * exp_table(-attenuation * t);
         }
     };
     [[nodiscard]] Coded for_cosines(const CodedCosines& cos_psi) const {
@@ -165,7 +165,7 @@ struct StratifiedRayOptics {
 private:
     /// exp(-int c dt) over the ray's first t metres.
     [[nodiscard]] double transmittance(const Ray& ray, double t) const {
-        return std::exp(-water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t));
+        return exp_table(-water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t));
     }
 };
 
