@@ -120,29 +120,26 @@ int main(int argc, char** argv) {
         const auto rays = nadir_ray_grid(1.0, 8.0, quick ? 6 : 10, 1.0);
         const auto k1 = collect(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
         const auto v1 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
-        // Thread speed-up of collection: the full 10 x 10 grid even with --quick, 1 and 2 threads
-        // alternated over 7 rounds, so short runs and the machine's noise weigh less.
-        const auto grid = nadir_ray_grid(1.0, 8.0, 10, 1.0);
-        std::vector<double> speedups;
-        for (int round = 0; round < 7; ++round) {
-            const auto one = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 1, 1);
-            const auto two = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 2, 1);
-            speedups.push_back(two.rays_per_s / one.rays_per_s);
-        }
-        std::sort(speedups.begin(), speedups.end());
-        // The same on a map that stays in cache (every 32nd record, about 5e4: 0.8 MB), over a
-        // 60 x 60 grid: separates the two cores' shared memory traffic from the estimate itself.
+        // Thread speed-up of collection: 1 and 2 threads alternated over 7 rounds (median), so
+        // short runs and the machine's noise weigh less.
+        auto median_thread_speedup = [&](const VoiOctreeStore<CompactRecord>& store, const std::vector<Ray>& grid) {
+            std::vector<double> speedups;
+            for (int round = 0; round < 7; ++round) {
+                const auto one = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 1, 1);
+                const auto two = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 2, 1);
+                speedups.push_back(two.rays_per_s / one.rays_per_s);
+            }
+            std::sort(speedups.begin(), speedups.end());
+            return speedups[speedups.size() / 2];
+        };
+        // The full 10 x 10 grid even with --quick; then the same estimate on a map that stays in
+        // cache (every 32nd record, about 5e4: 0.8 MB) over a 60 x 60 grid, which separates the
+        // two cores' shared memory traffic from the estimate itself.
+        const double collection_speedup = median_thread_speedup(voi, nadir_ray_grid(1.0, 8.0, 10, 1.0));
         std::vector<CompactRecord> sparse;
         for (std::size_t i = 0; i < map.records.size(); i += 32) sparse.push_back(map.records[i]);
-        const VoiOctreeStore<CompactRecord> small(std::move(sparse));
-        const auto fine_grid = nadir_ray_grid(1.0, 8.0, 60, 1.0);
-        std::vector<double> cached_speedups;
-        for (int round = 0; round < 7; ++round) {
-            const auto one = collect(small, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, fine_grid, 1, 1);
-            const auto two = collect(small, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, fine_grid, 2, 1);
-            cached_speedups.push_back(two.rays_per_s / one.rays_per_s);
-        }
-        std::sort(cached_speedups.begin(), cached_speedups.end());
+        const double cached_speedup =
+            median_thread_speedup(VoiOctreeStore<CompactRecord>(std::move(sparse)), nadir_ray_grid(1.0, 8.0, 60, 1.0));
         // At equal photons per ray: the cylinder radius scaled so it touches as many photons
         // per ray as the 32 spheres (photons per ray scale with the cross-section).
         const double r_equal = 0.05 * std::sqrt(k1.photons_per_ray / v1.photons_per_ray);
@@ -152,8 +149,8 @@ int main(int argc, char** argv) {
         fig["kd_rays_per_s"] = k1.rays_per_s;
         fig["voi_rays_per_s"] = v1.rays_per_s;
         fig["voi_speedup_vs_kd32"] = v1.rays_per_s / k1.rays_per_s;
-        fig["thread_speedup_collection"] = speedups[speedups.size() / 2];
-        fig["thread_speedup_collection_cached_map"] = cached_speedups[cached_speedups.size() / 2];
+        fig["thread_speedup_collection"] = collection_speedup;
+        fig["thread_speedup_collection_cached_map"] = cached_speedup;
 
         std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", map.records.size());
         std::printf("  k-d n=32: %.3g photons/ray, Lu %.4e +- %.1e\n", k1.photons_per_ray, k1.lu.value, k1.lu.se);
