@@ -234,3 +234,14 @@ TEST_CASE("Vertical rays through a compact map in stratified water: per-componen
                         PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches,
                         rays_every_way(1.0));
 }
+
+TEST_CASE("StratifiedRayOptics needs one cone per scattering component, and says so") {
+    const DepthProfile profile{{0.0, 20.0}, {0.1, 0.1}, {{0.5, 0.3}, {0.05, 0.2}}};
+    const StratifiedWater<HenyeyGreensteinPhase> water(profile, {HenyeyGreensteinPhase(0.9), HenyeyGreensteinPhase(0.3)});
+    const std::vector<ConeAveragedPhase<HenyeyGreensteinPhase>> one{{HenyeyGreensteinPhase(0.9), 0.005}};
+    using Catch::Matchers::Contains;
+    CHECK_THROWS_WITH(StratifiedRayOptics(water, one), Contains("cones") && Contains("1"));
+    auto two = one;
+    two.emplace_back(HenyeyGreensteinPhase(0.3), 0.005);
+    CHECK_NOTHROW(StratifiedRayOptics(water, two));
+}

@@ -19,6 +19,7 @@
 // function's interpolation. The result is bit-identical to the per-photon formula (see
 // detail::vertical_cosines for why); optics without the tabulated form, other records and
 // other rays take the per-photon formula.
+#include "secchi/core/error.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
 #include "secchi/map/record.hpp"
@@ -97,20 +98,25 @@ struct HomogeneousRayOptics {
     HomogeneousRayOptics(const ConePhase& cone, double attenuation_) : phase(cone), attenuation(attenuation_) {}
     ChordTable phase;
     double attenuation;
-    [[nodiscard]] double in_scatter(double, double cos_psi, const Ray&, double t) const {
-        return phase.eval(cos_psi) * exp_table(-attenuation * t);
+    [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
+        return along_path(phase.eval(cos_psi), z, ray, t);
+    }
+    /// The phase value p times the rest of eq. 3.18: the transmittance exp(-c t). (The one
+    /// place of that product: for_cosines' lookups stay bit-identical to in_scatter.)
+    [[nodiscard]] double along_path(double p, double, const Ray&, double t) const {
+        return p * exp_table(-attenuation * t);
     }
 
     /// For one ray with only 256 values of cos psi (CodedRayOptics): the phase function at each.
     struct Coded {
+        const HomogeneousRayOptics& optics;
         CodedCosines phase;  ///< phase.eval(cos_psi[k])
-        double attenuation;
-        [[nodiscard]] double in_scatter(double, std::uint8_t k, const Ray&, double t) const {
-            return phase[k] * exp_table(-attenuation * t);
+        [[nodiscard]] double in_scatter(double z, std::uint8_t k, const Ray& ray, double t) const {
+            return optics.along_path(phase[k], z, ray, t);
         }
     };
     [[nodiscard]] Coded for_cosines(const CodedCosines& cos_psi) const {
-        Coded out{{}, attenuation};
+        Coded out{*this, {}};
         for (std::size_t k = 0; k < cos_psi.size(); ++k) out.phase[k] = phase.eval(cos_psi[k]);
         return out;
     }
@@ -121,16 +127,29 @@ struct HomogeneousRayOptics {
 /// importance in the first pass, a photon stored at depth z carries the flux Phi / I(z).
 template <class Water>
 struct StratifiedRayOptics {
-    /// cones: one cone-averaged phase function per scattering component, in order.
+    /// cones: one cone-averaged phase function per scattering component, in order (as many as
+    /// the water has, where it says: water.components()).
     template <class ConePhase>
     StratifiedRayOptics(const Water& water_, const std::vector<ConePhase>& cones, ImportanceLevels importance_ = {})
-        : water(water_), phases(cones.begin(), cones.end()), importance(importance_) {}
+        : water(water_), phases(cones.begin(), cones.end()), importance(importance_) {
+        if constexpr (requires { water_.components(); })
+            require(cones.size() == water_.components(), "cones", cones.size(),
+                    "needs one cone-averaged phase function per scattering component of the water");
+        if constexpr (max_components > 0)
+            require(cones.size() <= max_components, "cones", cones.size(), "exceeds the water's max_components");
+    }
     const Water& water;
     std::vector<ChordTable> phases;
     ImportanceLevels importance;  ///< the first pass's (transport/importance.hpp)
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
-        const double p = water.mixture(z, [&](std::size_t i) { return phases[i].eval(cos_psi); });
-        return p * transmittance(ray, t) / importance.factor(z);
+        return along_path(water.mixture(z, [&](std::size_t i) { return phases[i].eval(cos_psi); }), z, ray, t);
+    }
+    /// The mixture's phase value p at depth z times the rest of eq. 3.18: exp(-int c dt) over
+    /// the ray's first t metres and 1 / I(z). (The one place of that product: for_cosines'
+    /// lookups stay bit-identical to in_scatter.)
+    [[nodiscard]] double along_path(double p, double z, const Ray& ray, double t) const {
+        const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
+        return p * exp_table(-tau) / importance.factor(z);
     }
 
     /// Up to this many components can be tabulated per ray (for_cosines); 0: none.
@@ -143,29 +162,21 @@ struct StratifiedRayOptics {
     /// function at each; the mixture weights b_i(z) / b(z) stay per photon, as does the path.
     struct Coded {
         const StratifiedRayOptics& optics;
-        std::size_t components;  ///< phases tabulated per code
-        /// phase[k * components + i] = phases[i].eval(cos_psi[k]): one code's values together.
+        /// phase[k * n + i] = phases[i].eval(cos_psi[k]), n = phases.size(): one code's values together.
         std::array<double, 256 * max_components> phase;
         [[nodiscard]] double in_scatter(double z, std::uint8_t k, const Ray& ray, double t) const {
-            const double* pk = phase.data() + k * components;
-            const double p = optics.water.mixture(z, [&](std::size_t i) { return pk[i]; });
-            return p * optics.transmittance(ray, t) / optics.importance.factor(z);
+            const double* pk = phase.data() + k * optics.phases.size();
+            return optics.along_path(optics.water.mixture(z, [&](std::size_t i) { return pk[i]; }), z, ray, t);
         }
     };
     [[nodiscard]] Coded for_cosines(const CodedCosines& cos_psi) const
         requires(max_components > 0)
     {
-        Coded out{*this, std::min(phases.size(), max_components), {}};
+        const std::size_t n = phases.size();  // <= max_components: the water's components (constructor)
+        Coded out{*this, {}};
         for (std::size_t k = 0; k < cos_psi.size(); ++k)
-            for (std::size_t i = 0; i < out.components; ++i)
-                out.phase[k * out.components + i] = phases[i].eval(cos_psi[k]);
+            for (std::size_t i = 0; i < n; ++i) out.phase[k * n + i] = phases[i].eval(cos_psi[k]);
         return out;
-    }
-
-private:
-    /// exp(-int c dt) over the ray's first t metres.
-    [[nodiscard]] double transmittance(const Ray& ray, double t) const {
-        return exp_table(-water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t));
     }
 };
 
