@@ -1,5 +1,6 @@
 #pragma once
-// Vectors through GLM, constants, and the frame rotation every scattering event needs.
+// Vectors through GLM, constants, and the per-event kernels: sin_cos for the azimuth, exp_table
+// for transmittances, and the frame rotation every scattering event needs.
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +17,16 @@ inline constexpr double two_pi = 2.0 * std::numbers::pi;
 inline constexpr double four_pi = 4.0 * std::numbers::pi;
 inline constexpr double deg = std::numbers::pi / 180.0;  ///< one degree in radians
 
+namespace detail {
+/// x rounded to the nearest integer (ties to even), for |x| < 2^51: adding 1.5 2^52 leaves no
+/// fraction bits, and subtracting it again is exact. (std::nearbyint honours the rounding mode
+/// through a library call; this is two additions.)
+inline double round_to_integer(double x) {
+    constexpr double shift = 0x1.8p52;
+    return (x + shift) - shift;
+}
+}  // namespace detail
+
 /// sin x and cos x together, for the azimuth of every scattering event (|x| < 1e6; the
 /// library's callers pass x in [0, 2 pi]). Cody-Waite reduction x = k pi/2 + r with pi/2 split in
 /// three parts (the first two with 33 significant bits, so k times them is exact for
@@ -28,8 +39,7 @@ struct SinCos {
 inline SinCos sin_cos(double x) {
     constexpr double two_over_pi = 0.6366197723675814;
     constexpr double pio2_1 = 1.5707963267341256, pio2_2 = 6.077100506303966e-11, pio2_3 = 2.0222662487959506e-21;
-    constexpr double round_shift = 0x1.8p52;  // adding and subtracting it rounds to an integer
-    const double k = (x * two_over_pi + round_shift) - round_shift;
+    const double k = detail::round_to_integer(x * two_over_pi);
     const double r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
     const double r2 = r * r;
     // 1/n! for n = 2 .. 18
@@ -82,8 +92,7 @@ inline double exp_table(double x) {
     if (!(x > -708.0 && x < 709.0)) return x != x ? x : (x > 0.0 ? INFINITY : 0.0);
     constexpr double inv_ln2_64 = 92.33248261689366, ln2_64_hi = 0.01083042469326756,
                      ln2_64_lo = 2.9815858269852933e-12;
-    constexpr double round_shift = 0x1.8p52;
-    const double kd = (x * inv_ln2_64 + round_shift) - round_shift;  // nearest integer
+    const double kd = detail::round_to_integer(x * inv_ln2_64);
     const double r = (x - kd * ln2_64_hi) - kd * ln2_64_lo;
     const auto k = static_cast<std::int64_t>(kd);
     const std::int64_t m = k >> 6;  // floor(k / 64)
