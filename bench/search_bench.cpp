@@ -347,25 +347,22 @@ void suite_scaling(const Options& o) {
         const Timing vb = time_runs(reps, [&] { copy = recs; }, [&] { const VoiOctreeStore<CompactRecord> s(std::move(copy)); });
         const KdTreeStore<CompactRecord> kd(recs);
         const VoiOctreeStore<CompactRecord> voi(recs);
-        auto within = [&](double r, double& k) {
+        // Median time per query (us) of query(q, Radius(r), collector) over `queries`; k: hits per query.
+        auto per_query = [&](const auto& queries, auto&& query, double r, double& k) {
             std::size_t total = 0;
             const Timing t = time_runs(o.repeats, [&] {
                 CountHits c;
-                for (const vec3& p : points) kd.within(p, Radius(r), c);
+                for (const auto& q : queries) query(q, Radius(r), c);
                 total = c.count;
             });
-            k = static_cast<double>(total) / points.size();
-            return t.median / points.size() * 1e6;
+            k = static_cast<double>(total) / queries.size();
+            return t.median / queries.size() * 1e6;
+        };
+        auto within = [&](double r, double& k) {
+            return per_query(points, [&](const vec3& p, Radius rr, CountHits& c) { kd.within(p, rr, c); }, r, k);
         };
         auto along = [&](double r, double& k) {
-            std::size_t total = 0;
-            const Timing t = time_runs(o.repeats, [&] {
-                CountHits c;
-                for (const Ray& ray : rays) voi.along(ray, Radius(r), c);
-                total = c.count;
-            });
-            k = static_cast<double>(total) / rays.size();
-            return t.median / rays.size() * 1e6;
+            return per_query(rays, [&](const Ray& ray, Radius rr, CountHits& c) { voi.along(ray, rr, c); }, r, k);
         };
         const double scale = static_cast<double>(n) / 1e7;
         double k1, k2, k3, k4;
