@@ -13,6 +13,7 @@
 //             figures): k-d tree and nanoflann stepping at n = 32 against the VOI cylinder.
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
+#include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
@@ -34,39 +35,8 @@
 namespace {
 
 using namespace secchi;
+using namespace secchi::bench;
 using Cone = ConeAveragedPhase<TabulatedPhase>;
-
-struct Timing {
-    double median = 0, lo = 0, hi = 0;
-};
-
-Timing time_runs(int repeats, const std::function<void()>& setup, const std::function<void()>& work) {
-    std::vector<double> t;
-    for (int i = 0; i < repeats; ++i) {
-        setup();
-        const auto t0 = std::chrono::steady_clock::now();
-        work();
-        t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(t.begin(), t.end());
-    return {t[t.size() / 2], t.front(), t.back()};
-}
-Timing time_runs(int repeats, const std::function<void()>& work) {
-    return time_runs(repeats, [] {}, work);
-}
-
-std::string fmt(const char* f, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-/// "median [min-max]" of a rate derived from times: rate = amount / t.
-std::string rate_cell(const Timing& t, double amount) {
-    return fmt("%.4g", amount / t.median) + " [" + fmt("%.3g", amount / t.hi) + "-" + fmt("%.3g", amount / t.lo) + "]";
-}
-std::string time_cell(const Timing& t, double scale, const char* f = "%.3g") {
-    return fmt(f, t.median * scale) + " [" + fmt(f, t.lo * scale) + "-" + fmt(f, t.hi * scale) + "]";
-}
 
 /// The problem-2a light field (Petzold, w0 = 0.9, sun at 60 deg, n = 1.34, no bottom), as
 /// secchi_bench traces it.

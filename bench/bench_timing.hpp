@@ -1,0 +1,46 @@
+#pragma once
+// Timing and table cells shared by the benchmark programs: every figure is the median of
+// repeated timed runs, reported with its spread (min-max).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace secchi::bench {
+
+struct Timing {
+    double median = 0, lo = 0, hi = 0;  ///< seconds
+};
+
+/// Times `work` `repeats` times (after `setup`, outside the timer, each time).
+inline Timing time_runs(int repeats, const std::function<void()>& setup, const std::function<void()>& work) {
+    std::vector<double> t;
+    for (int i = 0; i < repeats; ++i) {
+        setup();
+        const auto t0 = std::chrono::steady_clock::now();
+        work();
+        t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return {t[t.size() / 2], t.front(), t.back()};
+}
+inline Timing time_runs(int repeats, const std::function<void()>& work) {
+    return time_runs(repeats, [] {}, work);
+}
+
+inline std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+/// "median [min-max]" of a rate derived from times: rate = amount / t.
+inline std::string rate_cell(const Timing& t, double amount) {
+    return fmt("%.4g", amount / t.median) + " [" + fmt("%.3g", amount / t.hi) + "-" + fmt("%.3g", amount / t.lo) + "]";
+}
+inline std::string time_cell(const Timing& t, double scale, const char* f = "%.3g") {
+    return fmt(f, t.median * scale) + " [" + fmt(f, t.lo * scale) + "-" + fmt(f, t.hi * scale) + "]";
+}
+
+}  // namespace secchi::bench

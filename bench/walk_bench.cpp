@@ -1,0 +1,382 @@
+// walk_bench: secchi's photon tracer against bare random walks (a benchmark, never part of the
+// tests), so that BENCHMARKS.md can say how far the tracer is from the walks the performance
+// issue names as yardsticks, measured in one run on one core.
+//   walk_bench [--quick] [--photons N] [--md FILE]
+//
+// The bare walk: photons enter the half-space z >= 0 at the origin heading down (+z), with
+// exponential free paths (c = 1, s = -ln u), absorption with probability 1 - w0 (w0 = 0.9),
+// Henyey-Greenstein scattering (g = 0.9) and a 16-byte record (float position, two 16-bit
+// direction codes) stored per scattering event; a photon ends when absorbed or when it leaves
+// through z = 0. Events = records stored. Variants:
+//  - scalar double with xoshiro256+ (the issue's "bare scalar random walk", libm log/sin/cos);
+//  - scalar double with secchi's Philox4x32-10 streams, one per photon (PhotonRng);
+//  - scalar float with xoshiro256+ (logf, sinf, cosf);
+//  - lanes: one photon per SIMD lane (std::experimental::simd of doubles at the target's
+//    native width), the log, sine and cosine by branch-free polynomials, xoshiro256+ or
+//    Philox per lane; a lane whose photon ends starts the next one.
+// And secchi: PhotonTracer on the same problem (slab 42 m deep, detectors at 1, 5, 10 m,
+// CompactRecord with Jensen's direction bytes, analog absorption: secchi_bench's
+// events_per_s_per_core_hg), with its ratio to each walk.
+//
+// This program is built with -march=native where the compiler accepts it (bench/CMakeLists.txt)
+// so that the lanes use the machine's widest vectors; secchi's figure here is therefore that of
+// a native build (secchi_bench's headline is the portable build's).
+#include "bench_timing.hpp"
+#include "secchi/io/cli.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/solver/plane_parallel.hpp"
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+#if __has_include(<experimental/simd>)
+#include <experimental/simd>
+#define SECCHI_WALK_LANES 1
+#endif
+
+namespace {
+
+using namespace secchi;
+using namespace secchi::bench;
+
+constexpr double g_hg = 0.9, w0 = 0.9;
+
+struct WalkRecord {  // 16 bytes, as the issue's bare walk stores
+    float x, y, z;
+    std::int16_t dz, dx;
+};
+static_assert(sizeof(WalkRecord) == 16);
+
+template <class Real>
+WalkRecord walk_record(Real x, Real y, Real z, Real dx, Real dz) {
+    return {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<std::int16_t>(dz * Real(32000)),
+            static_cast<std::int16_t>(dx * Real(32000))};
+}
+
+/// One step of xoshiro256+ (Blackman and Vigna 2018) on state words of type W: 64-bit
+/// integers, or SIMD vectors of them (one generator per lane).
+template <class W>
+W xoshiro_next(W (&s)[4]) {
+    const W r = s[0] + s[3], t = s[1] << 17;
+    s[2] ^= s[0];
+    s[3] ^= s[1];
+    s[1] ^= s[2];
+    s[0] ^= s[3];
+    s[2] ^= t;
+    s[3] = (s[3] << 45) | (s[3] >> 19);
+    return r;
+}
+
+/// xoshiro256+: the top bits as a uniform in (0, 1).
+class Xoshiro {
+public:
+    explicit Xoshiro(std::uint64_t seed) {
+        for (auto& w : s_) w = splitmix(seed);
+    }
+    std::uint64_t next() { return xoshiro_next(s_); }
+    template <class Real>
+    Real uniform() {
+        if constexpr (sizeof(Real) == 4) return (static_cast<float>(next() >> 40) + 0.5f) * 0x1p-24f;
+        else return (static_cast<double>(next() >> 11) + 0.5) * 0x1p-53;
+    }
+    static std::uint64_t splitmix(std::uint64_t& x) {
+        std::uint64_t z = (x += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+
+private:
+    std::uint64_t s_[4];
+};
+
+/// One photon of the scalar bare walk; `uniform()` draws from its generator.
+template <class Real, class Uniform>
+void scalar_photon(Uniform&& uniform, std::vector<WalkRecord>& out) {
+    constexpr Real g = Real(g_hg), one = 1, two_pi_r = Real(two_pi);
+    Real x = 0, y = 0, z = 0, dx = 0, dy = 0, dz = 1;
+    for (;;) {
+        const Real s = -std::log(uniform());
+        x += dx * s;
+        y += dy * s;
+        z += dz * s;
+        if (z < 0 || uniform() >= Real(w0)) return;
+        out.push_back(walk_record(x, y, z, dx, dz));
+        const Real t = (one - g * g) / (one - g + 2 * g * uniform());
+        const Real ct = (one + g * g - t * t) / (2 * g), st = std::sqrt(std::max(Real(0), one - ct * ct));
+        const Real phi = two_pi_r * uniform(), cp = std::cos(phi), sp = std::sin(phi);
+        if (std::abs(dz) > Real(0.99999)) {
+            dx = st * cp;
+            dy = st * sp;
+            dz = dz > 0 ? ct : -ct;  // about the pole: psi measured from +z or -z
+        } else {
+            const Real d = std::sqrt(one - dz * dz);
+            const Real nx = st * (dx * dz * cp - dy * sp) / d + dx * ct, ny = st * (dy * dz * cp + dx * sp) / d + dy * ct;
+            dz = -st * cp * d + dz * ct;
+            dx = nx;
+            dy = ny;
+        }
+    }
+}
+
+template <class Real>
+std::size_t scalar_walk_xoshiro(std::uint64_t photons, std::vector<WalkRecord>& out) {
+    Xoshiro rng(1);
+    for (std::uint64_t i = 0; i < photons; ++i) scalar_photon<Real>([&] { return rng.uniform<Real>(); }, out);
+    return out.size();
+}
+
+std::size_t scalar_walk_philox(std::uint64_t photons, std::vector<WalkRecord>& out) {
+    for (std::uint64_t i = 0; i < photons; ++i) {
+        PhotonRng rng(1, i);
+        scalar_photon<double>([&] { return rng.uniform(); }, out);
+    }
+    return out.size();
+}
+
+#ifdef SECCHI_WALK_LANES
+namespace stdx = std::experimental;
+using V = stdx::native_simd<double>;
+using U = stdx::rebind_simd_t<std::uint64_t, V>;
+using I = stdx::rebind_simd_t<std::int64_t, V>;
+constexpr int lanes = static_cast<int>(V::size());
+
+/// ln x for x in (0, 1): x = 2^e m with m in [sqrt(1/2), sqrt 2) from the bits; ln m = 2 atanh f,
+/// f = (m - 1)/(m + 1), |f| < 0.172, by its series to f^21 (truncation < 1e-17).
+V log_lanes(V x) {
+    constexpr std::uint64_t sqrt_half = 0x3fe6a09e667f3bcdull;
+    const U adj = stdx::__proposed::simd_bit_cast<U>(x) + U(0x3ff0000000000000ull - sqrt_half);
+    const V e = stdx::static_simd_cast<V>(stdx::static_simd_cast<I>(adj >> 52) - I(1023));
+    const V m = stdx::__proposed::simd_bit_cast<V>((adj & U(0x000fffffffffffffull)) + U(sqrt_half));
+    const V f = (m - 1.0) / (m + 1.0), f2 = f * f;
+    V p(2.0 / 21);
+    for (int k = 19; k >= 3; k -= 2) p = 2.0 / k + f2 * p;
+    constexpr double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
+    return e * ln2_hi + (2.0 * f + (f * f2 * p + e * ln2_lo));
+}
+
+/// sin and cos of x in [0, 2 pi]: the reduction and series of secchi::sin_cos, with the
+/// quadrant chosen by masks instead of a switch.
+void sin_cos_lanes(V x, V& sin_out, V& cos_out) {
+    constexpr double pio2_1 = 1.5707963267341256, pio2_2 = 6.077100506303966e-11, pio2_3 = 2.0222662487959506e-21;
+    const V k = (x * 0.6366197723675814 + 0x1.8p52) - 0x1.8p52;
+    const V r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3, r2 = r * r;
+    V ps(2.8114572543455206e-15), pc(-1.5619206968586225e-16);
+    for (double c : {-7.647163731819816e-13, 1.6059043836821613e-10, -2.505210838544172e-08, 2.7557319223985893e-06,
+                     -0.0001984126984126984, 0.008333333333333333, -0.16666666666666666})
+        ps = c + r2 * ps;
+    for (double c : {4.779477332387385e-14, -1.1470745597729725e-11, 2.08767569878681e-09, -2.755731922398589e-07,
+                     2.48015873015873e-05, -0.001388888888888889, 0.041666666666666664})
+        pc = c + r2 * pc;
+    const V s = r + r * r2 * ps, c = (1.0 - 0.5 * r2) + r2 * r2 * pc;
+    const V q = k - 4.0 * stdx::floor(k * 0.25);  // quadrant 0..3
+    const auto odd = (q == 1.0) || (q == 3.0);
+    V a = s, b = c;
+    stdx::where(odd, a) = c;
+    stdx::where(odd, b) = s;
+    stdx::where(q >= 2.0, a) = -a;
+    stdx::where((q == 1.0) || (q == 2.0), b) = -b;
+    sin_out = a;
+    cos_out = b;
+}
+
+/// Four uniforms per lane and step: xoshiro256+ per lane.
+class XoshiroLanes {
+public:
+    XoshiroLanes() {
+        std::uint64_t seed = 1, w[4][lanes];
+        for (int l = 0; l < lanes; ++l)
+            for (auto& row : w) row[l] = Xoshiro::splitmix(seed);
+        for (int k = 0; k < 4; ++k) s_[k] = U([&](auto l) { return w[k][l]; });
+    }
+    void start(int, std::uint64_t) {}
+    void draw(V (&u)[4]) {
+        for (auto& v : u) v = (stdx::static_simd_cast<V>(xoshiro_next(s_) >> 11) + 0.5) * 0x1p-53;
+    }
+
+private:
+    U s_[4];
+};
+
+/// Four uniforms per lane and step: one Philox4x32-10 block of the lane's photon stream (the
+/// rounds of secchi::PhotonRng on 32-bit words held in 64-bit lanes).
+class PhiloxLanes {
+public:
+    void start(int lane, std::uint64_t photon) {
+        ctr_[lane] = 0;
+        stream_[lane] = photon;
+    }
+    void draw(V (&u)[4]) {
+        const U lo32(0xffffffffull);
+        U x0([&](auto l) { return ctr_[l] & 0xffffffffull; }), x1([&](auto l) { return ctr_[l] >> 32; });
+        U x2([&](auto l) { return stream_[l] & 0xffffffffull; }), x3([&](auto l) { return stream_[l] >> 32; });
+        std::uint64_t k0 = 1, k1 = 0;  // seed 1
+        for (int round = 0; round < 10; ++round) {
+            const U p0 = x0 * U(0xD2511F53ull), p1 = x2 * U(0xCD9E8D57ull);
+            x0 = (p1 >> 32) ^ x1 ^ U(k0);
+            x1 = p1 & lo32;
+            x2 = (p0 >> 32) ^ x3 ^ U(k1);
+            x3 = p0 & lo32;
+            k0 = (k0 + 0x9E3779B9u) & 0xffffffffull;
+            k1 = (k1 + 0xBB67AE85u) & 0xffffffffull;
+        }
+        const U* x[4] = {&x0, &x1, &x2, &x3};
+        for (int k = 0; k < 4; ++k) u[k] = (stdx::static_simd_cast<V>(*x[k]) + 0.5) * 0x1p-32;
+        for (auto& c : ctr_) ++c;
+    }
+
+private:
+    std::uint64_t ctr_[lanes] = {}, stream_[lanes] = {};
+};
+
+/// The bare walk with one photon per lane, branch-free except where a photon ends.
+template <class Lanes>
+std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
+    constexpr double g = g_hg;
+    Lanes rng;
+    V x(0.0), y(0.0), z(0.0), dx(0.0), dy(0.0), dz(1.0);
+    std::uint64_t next = 0;
+    int live = 0;
+    bool alive[lanes] = {};
+    auto start = [&](int l) {  // lane l takes the next photon, or idles (parked above z = 0)
+        alive[l] = next < photons;
+        live += alive[l];
+        if (alive[l]) rng.start(l, next++);
+        x[l] = y[l] = dx[l] = dy[l] = 0.0;
+        z[l] = alive[l] ? 0.0 : -1e300;
+        dz[l] = 1.0;
+    };
+    for (int l = 0; l < lanes; ++l) start(l);
+    std::size_t n = 0;
+    out.resize(1 << 20);
+    while (live > 0) {
+        V u[4];
+        rng.draw(u);
+        const V s = -log_lanes(u[0]);
+        x += dx * s;
+        y += dy * s;
+        z += dz * s;
+        const auto ends = (z < 0.0) || (u[1] >= w0);
+        if (n + lanes > out.size()) out.resize(2 * out.size());
+        for (int l = 0; l < lanes; ++l) {  // every lane writes; the count advances for kept events
+            out[n] = walk_record<double>(x[l], y[l], z[l], dx[l], dz[l]);
+            n += !ends[l];
+        }
+        const V t = (1.0 - g * g) / (1.0 - g + 2.0 * g * u[2]);
+        const V ct = (1.0 + g * g - t * t) / (2.0 * g), st = stdx::sqrt(stdx::max(V(0.0), 1.0 - ct * ct));
+        V sp, cp;
+        sin_cos_lanes(two_pi * u[3], sp, cp);
+        // The frame of secchi::rotate_direction (Duff et al. 2017), branch-free.
+        const V sign = stdx::copysign(V(1.0), dz), a = -1.0 / (sign + dz), b = dx * dy * a;
+        const V sc = st * cp, ss = st * sp;
+        const V nx = sc * (1.0 + sign * dx * dx * a) + ss * b + ct * dx;
+        const V ny = sc * (sign * b) + ss * (sign + dy * dy * a) + ct * dy;
+        const V nz = -(sc * sign * dx) - ss * dy + ct * dz;
+        const V norm = 1.5 - 0.5 * (nx * nx + ny * ny + nz * nz);
+        dx = nx * norm;
+        dy = ny * norm;
+        dz = nz * norm;
+        if (stdx::any_of(ends))
+            for (int l = 0; l < lanes; ++l)
+                if (ends[l] && alive[l]) {
+                    --live;
+                    start(l);
+                }
+    }
+    out.resize(n);
+    return n;
+}
+#endif
+
+/// secchi's tracer on the problem of secchi_bench's events_per_s_per_core_hg; its records'
+/// mean depth (the same walk's check) goes to `mean_depth`.
+std::size_t secchi_tracer(std::uint64_t photons, double& mean_depth) {
+    const HenyeyGreensteinPhase hg(g_hg);
+    const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, w0, hg);
+    TransportSettings s;
+    s.photons = s.map_photons = photons;
+    s.threads = 1;
+    s.absorption = AbsorptionMode::analog;
+    s.depths = {1.0, 5.0, 10.0};
+    const Slab slab(1.0, Bottom{}, 42.0);
+    const auto records = PhotonTracer<HomogeneousWater<HenyeyGreensteinPhase>, CompactRecord>(water, slab, FlatSurface(1.0),
+                                                                                CollimatedSun(0.0), s)
+                       .run()
+                       .records;
+    mean_depth = 0;
+    for (const auto& r : records) mean_depth += r.z;
+    mean_depth /= static_cast<double>(records.size());
+    return records.size();
+}
+
+struct Variant {
+    std::string name;
+    std::function<std::size_t(std::uint64_t)> run;  ///< traces `photons` photons, returns the events
+    std::function<double()> mean_depth;              ///< of the last run's events (not timed)
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (CommandLine::wants_help(argc, argv)) {
+        std::cout << "usage: walk_bench [--quick] [--photons N] [--md FILE]\n";
+        return 0;
+    }
+    try {
+        const CommandLine cl(argc, argv, {"md", "photons"}, {"quick"});
+        const bool quick = cl.has("quick");
+        const int repeats = quick ? 3 : 7;
+        const auto photons = static_cast<std::uint64_t>(cl.number("photons", quick ? 1e5 : 4e5));
+        std::ofstream md_file;
+        if (cl.has("md")) md_file.open(cl.text("md"));
+        auto out = [&](const std::string& line) {
+            std::cout << line << "\n";
+            if (md_file.is_open()) md_file << line << "\n";
+        };
+
+        std::vector<WalkRecord> records;
+        records.reserve(photons * 12);
+        auto walk = [&](auto f) { return [&records, f](std::uint64_t n) { records.clear(); return f(n, records); }; };
+        auto walk_depth = [&] {
+            double sum = 0;
+            for (const auto& r : records) sum += r.z;
+            return sum / static_cast<double>(records.size());
+        };
+        double secchi_depth = 0;
+        std::vector<Variant> variants{
+            {"secchi PhotonTracer (HG, slab, detectors, CompactRecord)",
+             [&](std::uint64_t n) { return secchi_tracer(n, secchi_depth); }, [&] { return secchi_depth; }},
+            {"bare walk, scalar double, xoshiro256+", walk(scalar_walk_xoshiro<double>), walk_depth},
+            {"bare walk, scalar double, Philox per photon", walk(scalar_walk_philox), walk_depth},
+            {"bare walk, scalar float, xoshiro256+", walk(scalar_walk_xoshiro<float>), walk_depth},
+        };
+#ifdef SECCHI_WALK_LANES
+        const std::string width = std::to_string(lanes) + " double lanes";
+        variants.push_back({"bare walk, " + width + ", xoshiro256+ per lane", walk(lanes_walk<XoshiroLanes>), walk_depth});
+        variants.push_back({"bare walk, " + width + ", Philox per photon", walk(lanes_walk<PhiloxLanes>), walk_depth});
+#endif
+        out("| variant | events | mean event depth | events/s per core, median [min-max] | secchi / variant |");
+        out("|---|---|---|---|---|");
+        double secchi_rate = 0;
+        for (const auto& v : variants) {
+            std::size_t events = 0;
+            const Timing t = time_runs(repeats, [&] { events = v.run(photons); });
+            const double rate = static_cast<double>(events) / t.median;
+            if (secchi_rate == 0) secchi_rate = rate;
+            out("| " + v.name + " | " + std::to_string(events) + " | " + fmt("%.4f", v.mean_depth()) + " | " + rate_cell(t, static_cast<double>(events)) + " | " +
+                fmt("%.2f", secchi_rate / rate) + " |");
+        }
+        out("");
+        out(std::to_string(photons) + " photons per run, median of " + std::to_string(repeats) +
+            " runs, 1 thread. HG g = 0.9, w0 = 0.9; see bench/walk_bench.cpp for the walks. The events and their mean "
+            "depth check that every variant traces the same walk (secchi's photons also end at its 42 m floor); "
+            "events per photon have a standard deviation of about 9, so totals of independent runs differ by a few "
+            "times 9 sqrt(photons).");
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "walk_bench: " << e.what() << "\n";
+        return 1;
+    }
+}
