@@ -5,8 +5,11 @@
 // (g = 0.9) and Petzold samplers; photons per second for problems 1a, 2a and 2b on 1 and 2
 // threads (thread_speedup_propagation is problem 2a's). Collection: rays per
 // second through a problem-2a map, k-d tree spheres at n = 32 against the VOI cylinder at the
-// same radius. Thread speed-ups: 2 threads against 1 on the same work (collection also on a
-// cache-resident map, thread_speedup_collection_cached_map, to separate memory traffic).
+// same radius. Thread speed-ups: 2 threads against 1 on the same work, alternated run by run
+// (collection also on a cache-resident map, thread_speedup_collection_cached_map, to separate
+// memory traffic), and thread_speedup_compute_loop(_throughput_bound): pure compute loops,
+// latency-bound and throughput-bound, timed in the same rounds: the speed-up the shared
+// machine allowed at that moment.
 #include "secchi/io/cli.hpp"
 #include "secchi/io/json_writer.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -14,6 +17,8 @@
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/solver/plane_parallel.hpp"
 #include <algorithm>
+#include <array>
+#include <stdexcept>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
@@ -77,6 +82,32 @@ CollectionFigures collect(const Store& store, const Volume& volume, const Cone& 
     return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
 }
 
+/// Seconds for two equal items of a pure compute loop (no memory traffic) on `threads`
+/// threads: what the machine's cores give at that moment. Chains = 1: one dependent
+/// multiply-add chain, latency-bound (the "pure compute loop"); Chains = 12:
+/// independent chains that keep the floating-point units busy, throughput-bound, so two
+/// threads sharing one physical core's units show it.
+template <int Chains>
+double compute_loop_seconds(unsigned threads) {
+    std::array<double, 2> sink{};
+    const auto t0 = std::chrono::steady_clock::now();
+    parallel_for(2, threads, [&](std::size_t i) {
+        std::array<double, Chains> x;
+        for (int c = 0; c < Chains; ++c) x[c] = 1.0 + static_cast<double>(i + c);
+        for (int k = 0; k < 4'000'000; ++k)
+            for (auto& v : x) v = v * 0.9999999 + 1e-7;
+        for (double v : x) sink[i] += v;
+    });
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!(sink[0] > 0 && sink[1] > 0)) throw std::logic_error("compute loop");  // keeps the loop
+    return t;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -100,11 +131,16 @@ int main(int argc, char** argv) {
         // absorption as in the conformance runs), on 1 and 2 threads.
         const std::uint64_t n2a = 200'000 * scale;
         auto photons_per_s = [&](const std::string& name, const auto& phase, double w0) {
-            const double t1 = median_seconds(repeats, [&] { trace(phase, w0, 60, 1.34, n2a, 1, AbsorptionMode::continuous); });
-            const double t2 = median_seconds(repeats, [&] { trace(phase, w0, 60, 1.34, n2a, 2, AbsorptionMode::continuous); });
-            fig["photons_per_s_problem_" + name] = static_cast<double>(n2a) / t1;
-            fig["photons_per_s_problem_" + name + "_2_threads"] = static_cast<double>(n2a) / t2;
-            return t1 / t2;
+            // 1 and 2 threads alternated, run by run: the speed-up is the median of the rounds' ratios
+            std::vector<double> t1, t2, ratios;
+            for (int round = 0; round < repeats; ++round) {
+                t1.push_back(median_seconds(1, [&] { trace(phase, w0, 60, 1.34, n2a, 1, AbsorptionMode::continuous); }));
+                t2.push_back(median_seconds(1, [&] { trace(phase, w0, 60, 1.34, n2a, 2, AbsorptionMode::continuous); }));
+                ratios.push_back(t1.back() / t2.back());
+            }
+            fig["photons_per_s_problem_" + name] = static_cast<double>(n2a) / median(t1);
+            fig["photons_per_s_problem_" + name + "_2_threads"] = static_cast<double>(n2a) / median(t2);
+            return median(ratios);
         };
         fig["thread_speedup_propagation"] = photons_per_s("2a", petzold, 0.9);
         photons_per_s("1a", RayleighPhase{}, 0.9);
@@ -121,16 +157,20 @@ int main(int argc, char** argv) {
         const auto k1 = collect(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
         const auto v1 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
         // Thread speed-up of collection: 1 and 2 threads alternated over 7 rounds (median), so
-        // short runs and the machine's noise weigh less.
+        // short runs and the machine's noise weigh less. Each round also times the pure compute
+        // loop on 1 and 2 threads (thread_speedup_compute_loop, the median over all rounds): the
+        // speed-up the shared machine allowed while the collection figures were taken.
+        std::vector<double> loop_speedups, busy_loop_speedups;
         auto median_thread_speedup = [&](const VoiOctreeStore<CompactRecord>& store, const std::vector<Ray>& grid) {
             std::vector<double> speedups;
             for (int round = 0; round < 7; ++round) {
                 const auto one = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 1, 1);
                 const auto two = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 2, 1);
                 speedups.push_back(two.rays_per_s / one.rays_per_s);
+                loop_speedups.push_back(compute_loop_seconds<1>(1) / compute_loop_seconds<1>(2));
+                busy_loop_speedups.push_back(compute_loop_seconds<12>(1) / compute_loop_seconds<12>(2));
             }
-            std::sort(speedups.begin(), speedups.end());
-            return speedups[speedups.size() / 2];
+            return median(speedups);
         };
         // The full 10 x 10 grid even with --quick; then the same estimate on a map that stays in
         // cache (every 32nd record, about 5e4: 0.8 MB) over a 60 x 60 grid, which separates the
@@ -151,6 +191,8 @@ int main(int argc, char** argv) {
         fig["voi_speedup_vs_kd32"] = v1.rays_per_s / k1.rays_per_s;
         fig["thread_speedup_collection"] = collection_speedup;
         fig["thread_speedup_collection_cached_map"] = cached_speedup;
+        fig["thread_speedup_compute_loop"] = median(loop_speedups);
+        fig["thread_speedup_compute_loop_throughput_bound"] = median(busy_loop_speedups);
 
         std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", map.records.size());
         std::printf("  k-d n=32: %.3g photons/ray, Lu %.4e +- %.1e\n", k1.photons_per_ray, k1.lu.value, k1.lu.se);
