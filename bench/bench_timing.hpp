@@ -14,17 +14,28 @@ struct Timing {
     double median = 0, lo = 0, hi = 0;  ///< seconds
 };
 
+/// The median of `v` (the upper one of an even count).
+inline double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+/// Seconds of one run of `work`.
+inline double seconds(const std::function<void()>& work) {
+    const auto t0 = std::chrono::steady_clock::now();
+    work();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 /// Times `work` `repeats` times (after `setup`, outside the timer, each time).
 inline Timing time_runs(int repeats, const std::function<void()>& setup, const std::function<void()>& work) {
     std::vector<double> t;
     for (int i = 0; i < repeats; ++i) {
         setup();
-        const auto t0 = std::chrono::steady_clock::now();
-        work();
-        t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        t.push_back(seconds(work));
     }
     std::sort(t.begin(), t.end());
-    return {t[t.size() / 2], t.front(), t.back()};
+    return {median(t), t.front(), t.back()};
 }
 inline Timing time_runs(int repeats, const std::function<void()>& work) {
     return time_runs(repeats, [] {}, work);

@@ -13,6 +13,7 @@
 //             figures): k-d tree and nanoflann stepping at n = 32 against the VOI cylinder.
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
+#include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/map/brute_force.hpp"
@@ -42,16 +43,7 @@ using Cone = ConeAveragedPhase<TabulatedPhase>;
 /// secchi_bench traces it.
 template <class Record>
 TransportResult<Record> trace_2a(std::uint64_t photons, unsigned threads) {
-    const TabulatedPhase petzold = petzold_m93();
-    const auto water = HomogeneousWater<TabulatedPhase>::from_albedo(1.0, 0.9, petzold);
-    TransportSettings s;
-    s.photons = s.map_photons = photons;
-    s.threads = threads;
-    s.absorption = AbsorptionMode::continuous;
-    s.depths = {1.0, 5.0, 10.0};
-    const Slab slab(1.0, Bottom{}, 42.0);
-    return PhotonTracer<HomogeneousWater<TabulatedPhase>, Record>(water, slab, FlatSurface(1.34), CollimatedSun(60.0), s)
-        .run();
+    return trace_slab<Record>(petzold_m93(), 0.9, 60.0, 1.34, photons, threads, AbsorptionMode::continuous);
 }
 
 /// At least n records of the 2a light field (FullRecord), in photon order, cut to n.

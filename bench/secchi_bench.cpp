@@ -10,6 +10,8 @@
 // memory traffic), and thread_speedup_compute_loop(_throughput_bound): pure compute loops,
 // latency-bound and throughput-bound, timed in the same rounds: the speed-up the shared
 // machine allowed at that moment.
+#include "bench_problems.hpp"
+#include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/io/json_writer.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -30,40 +32,15 @@
 namespace {
 
 using namespace secchi;
-
-double median_seconds(int repeats, const std::function<void()>& work) {
-    std::vector<double> t;
-    for (int i = 0; i < repeats; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        work();
-        t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(t.begin(), t.end());
-    return t[t.size() / 2];
-}
-
-template <class Phase>
-TransportResult<CompactRecord> trace(const Phase& phase, double w0, double zenith, double n_water,
-                                     std::uint64_t photons, unsigned threads, AbsorptionMode mode) {
-    const auto water = HomogeneousWater<Phase>::from_albedo(1.0, w0, phase);
-    TransportSettings s;
-    s.photons = s.map_photons = photons;
-    s.threads = threads;
-    s.absorption = mode;
-    s.depths = {1.0, 5.0, 10.0};
-    const Slab slab(1.0, Bottom{}, 42.0);
-    return PhotonTracer<HomogeneousWater<Phase>, CompactRecord>(water, slab, FlatSurface(n_water),
-                                                                CollimatedSun(zenith), s)
-        .run();
-}
+using namespace secchi::bench;
 
 /// Scattering events per second on one core: analog transport, all events stored.
 template <class Phase>
 double events_per_second(const Phase& phase, std::uint64_t photons, int repeats) {
     std::size_t events = 0;
-    const double t = median_seconds(repeats, [&] {
-        events = trace(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records.size();
-    });
+    const double t = time_runs(repeats, [&] {
+        events = trace_slab<CompactRecord>(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records.size();
+    }).median;
     return static_cast<double>(events) / t;
 }
 
@@ -78,7 +55,7 @@ CollectionFigures collect(const Store& store, const Volume& volume, const Cone& 
                           const std::vector<Ray>& rays, unsigned threads, int repeats, double radius = 0.05) {
     const PathRadianceEstimator est(store, volume, HomogeneousRayOptics(cone, 1.0), flux, batches, Radius(radius));
     RadianceEstimate r;
-    const double t = median_seconds(repeats, [&] { r = est.estimate(rays, threads); });
+    const double t = time_runs(repeats, [&] { r = est.estimate(rays, threads); }).median;
     return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
 }
 
@@ -101,11 +78,6 @@ double compute_loop_seconds(unsigned threads) {
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!(sink[0] > 0 && sink[1] > 0)) throw std::logic_error("compute loop");  // keeps the loop
     return t;
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace
@@ -134,8 +106,8 @@ int main(int argc, char** argv) {
             // 1 and 2 threads alternated, run by run: the speed-up is the median of the rounds' ratios
             std::vector<double> t1, t2, ratios;
             for (int round = 0; round < repeats; ++round) {
-                t1.push_back(median_seconds(1, [&] { trace(phase, w0, 60, 1.34, n2a, 1, AbsorptionMode::continuous); }));
-                t2.push_back(median_seconds(1, [&] { trace(phase, w0, 60, 1.34, n2a, 2, AbsorptionMode::continuous); }));
+                t1.push_back(seconds([&] { trace_slab<CompactRecord>(phase, w0, 60, 1.34, n2a, 1, AbsorptionMode::continuous); }));
+                t2.push_back(seconds([&] { trace_slab<CompactRecord>(phase, w0, 60, 1.34, n2a, 2, AbsorptionMode::continuous); }));
                 ratios.push_back(t1.back() / t2.back());
             }
             fig["photons_per_s_problem_" + name] = static_cast<double>(n2a) / median(t1);
@@ -147,7 +119,7 @@ int main(int argc, char** argv) {
         photons_per_s("2b", petzold, 0.2);
 
         // Collection through a problem-2a map: vertical rays of length 8 from tau 1.
-        const auto map = trace(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous);
+        const auto map = trace_slab<CompactRecord>(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous);
         fig["bytes_per_photon_compact"] =
             static_cast<double>(KdTreeStore<CompactRecord>(map.records).memory_bytes()) / map.records.size();
         const KdTreeStore<CompactRecord> kd(map.records);

@@ -21,6 +21,7 @@
 // This program is built with -march=native where the compiler accepts it (bench/CMakeLists.txt)
 // so that the lanes use the machine's widest vectors; secchi's figure here is therefore that of
 // a native build (secchi_bench's headline is the portable build's).
+#include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -293,18 +294,8 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
 /// secchi's tracer on the problem of secchi_bench's events_per_s_per_core_hg; its records'
 /// mean depth (the same walk's check) goes to `mean_depth`.
 std::size_t secchi_tracer(std::uint64_t photons, double& mean_depth) {
-    const HenyeyGreensteinPhase hg(g_hg);
-    const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, w0, hg);
-    TransportSettings s;
-    s.photons = s.map_photons = photons;
-    s.threads = 1;
-    s.absorption = AbsorptionMode::analog;
-    s.depths = {1.0, 5.0, 10.0};
-    const Slab slab(1.0, Bottom{}, 42.0);
-    const auto records = PhotonTracer<HomogeneousWater<HenyeyGreensteinPhase>, CompactRecord>(water, slab, FlatSurface(1.0),
-                                                                                CollimatedSun(0.0), s)
-                       .run()
-                       .records;
+    const auto records =
+        trace_slab<CompactRecord>(HenyeyGreensteinPhase(g_hg), w0, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records;
     mean_depth = 0;
     for (const auto& r : records) mean_depth += r.z;
     mean_depth /= static_cast<double>(records.size());

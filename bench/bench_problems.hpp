@@ -1,0 +1,25 @@
+#pragma once
+// The problem every benchmark program traces: homogeneous water with c = 1 /m and albedo w0
+// under a flat surface, a slab 1 m wide (periodic) and 42 m deep without a bottom, irradiance
+// detectors at 1, 5 and 10 m. Problem 2a is (Petzold, w0 = 0.9, sun at 60 deg, n = 1.34,
+// continuous absorption); the propagation figures use (HG or Petzold, w0 = 0.9, sun at zenith,
+// n = 1, analog absorption).
+#include "secchi/solver/plane_parallel.hpp"
+
+namespace secchi::bench {
+
+template <class Record, class Phase>
+TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_deg, double n_water,
+                                   std::uint64_t photons, unsigned threads, AbsorptionMode mode) {
+    const auto water = HomogeneousWater<Phase>::from_albedo(1.0, w0, phase);
+    TransportSettings s;
+    s.photons = s.map_photons = photons;
+    s.threads = threads;
+    s.absorption = mode;
+    s.depths = {1.0, 5.0, 10.0};
+    const Slab slab(1.0, Bottom{}, 42.0);
+    return PhotonTracer<HomogeneousWater<Phase>, Record>(water, slab, FlatSurface(n_water), CollimatedSun(zenith_deg), s)
+        .run();
+}
+
+}  // namespace secchi::bench
