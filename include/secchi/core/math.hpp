@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <numbers>
+#include <type_traits>
 
 namespace secchi {
 
@@ -16,6 +17,21 @@ inline constexpr double pi = std::numbers::pi;
 inline constexpr double two_pi = 2.0 * std::numbers::pi;
 inline constexpr double four_pi = 4.0 * std::numbers::pi;
 inline constexpr double deg = std::numbers::pi / 180.0;  ///< one degree in radians
+
+/// a where m holds, else b: `m ? a : b`, for code written once for doubles and for SIMD
+/// vectors of them (std::experimental::simd, core/lanes.hpp), where it is where(m, b) = a.
+template <class Mask, class T>
+#if defined(__GNUC__)
+[[gnu::always_inline]]
+#endif
+inline T select(const Mask& m, const T& a, T b) {
+    if constexpr (std::is_same_v<Mask, bool>) {
+        return m ? a : b;
+    } else {
+        where(m, b) = a;
+        return b;
+    }
+}
 
 namespace detail {
 /// x rounded to the nearest integer (ties to even), for |x| < 2^51: adding 1.5 2^52 leaves no

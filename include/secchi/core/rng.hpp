@@ -8,12 +8,42 @@
 
 namespace secchi {
 
+/// One Philox4x32-10 block: ten rounds of the bijection on the 128-bit counter `x` under the
+/// 64-bit key `k` (Salmon et al. 2011, section 3.3). Branch-free, so a loop over photons in
+/// lanes (transport/lane_tracer.hpp) vectorises.
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+inline std::array<std::uint32_t, 4> philox4x32_10(std::array<std::uint32_t, 4> x, std::array<std::uint32_t, 2> k) {
+    constexpr std::uint32_t M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
+    constexpr std::uint32_t W0 = 0x9E3779B9u, W1 = 0xBB67AE85u;
+    for (int round = 0; round < 10; ++round) {
+        const std::uint64_t p0 = static_cast<std::uint64_t>(M0) * x[0];
+        const std::uint64_t p1 = static_cast<std::uint64_t>(M1) * x[2];
+        x = {static_cast<std::uint32_t>(p1 >> 32) ^ x[1] ^ k[0], static_cast<std::uint32_t>(p1),
+             static_cast<std::uint32_t>(p0 >> 32) ^ x[3] ^ k[1], static_cast<std::uint32_t>(p0)};
+        k[0] += W0;
+        k[1] += W1;
+    }
+    return x;
+}
+
+/// A 32-bit random word as a uniform double in the open interval (0, 1).
+inline double uniform_from_bits(std::uint32_t bits) { return (static_cast<double>(bits) + 0.5) * 0x1p-32; }
+
 class PhotonRng {
 public:
-    /// Stream `stream` (e.g. the photon index) of the generator seeded with `seed`.
-    PhotonRng(std::uint64_t seed, std::uint64_t stream)
+    /// Stream `stream` (e.g. the photon index) of the generator seeded with `seed`, from its
+    /// block `block` on (the first block by default). A stream is the sequence of Philox
+    /// blocks with counter (block, stream); a draw never reuses a block.
+    PhotonRng(std::uint64_t seed, std::uint64_t stream, std::uint64_t block = 0)
         : key_{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)},
-          ctr_{0u, 0u, static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32)} {}
+          ctr_{static_cast<std::uint32_t>(block), static_cast<std::uint32_t>(block >> 32),
+               static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32)} {}
+
+    /// The first block not yet drawn from: where another generator on this stream may go on
+    /// (the unused draws of the current block are skipped).
+    [[nodiscard]] std::uint64_t next_block() const { return ctr_[0] | (static_cast<std::uint64_t>(ctr_[1]) << 32); }
 
     /// Uniform double in the open interval (0, 1) (never 0, so -log(u) is finite). Inlined
     /// into the transport loop, with the block computation (once per 4 draws) out of line.
@@ -22,7 +52,7 @@ public:
 #endif
     double uniform() {
         if (next_ == 4) [[unlikely]] refill();
-        return (static_cast<double>(buf_[next_++]) + 0.5) * 0x1p-32;
+        return uniform_from_bits(buf_[next_++]);
     }
 
     /// Raw 32 random bits.
@@ -32,24 +62,11 @@ public:
     }
 
 private:
-    static constexpr std::uint32_t M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
-    static constexpr std::uint32_t W0 = 0x9E3779B9u, W1 = 0xBB67AE85u;
-
 #if defined(__GNUC__)
     __attribute__((noinline))
 #endif
     void refill() {
-        std::array<std::uint32_t, 4> x = ctr_;
-        std::array<std::uint32_t, 2> k = key_;
-        for (int round = 0; round < 10; ++round) {
-            const std::uint64_t p0 = static_cast<std::uint64_t>(M0) * x[0];
-            const std::uint64_t p1 = static_cast<std::uint64_t>(M1) * x[2];
-            x = {static_cast<std::uint32_t>(p1 >> 32) ^ x[1] ^ k[0], static_cast<std::uint32_t>(p1),
-                 static_cast<std::uint32_t>(p0 >> 32) ^ x[3] ^ k[1], static_cast<std::uint32_t>(p0)};
-            k[0] += W0;
-            k[1] += W1;
-        }
-        buf_ = x;
+        buf_ = philox4x32_10(ctr_, key_);
         next_ = 0;
         if (++ctr_[0] == 0) ++ctr_[1];  // 64-bit draw counter per stream
     }

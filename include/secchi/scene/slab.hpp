@@ -44,9 +44,12 @@ public:
     /// Depth at which a downward photon leaves the water body (bottom or escape depth).
     [[nodiscard]] double floor_depth() const { return bottom_.kind == BottomKind::none ? escape_depth_ : bottom_.depth; }
     /// Periodic wrap of a horizontal coordinate into [0, W).
-    [[nodiscard]] double wrap(double x) const {
-        const double w = x - width_ * std::floor(x / width_);
-        return w < width_ ? w : 0.0;
+    /// For a double, or a SIMD vector of them (photons in lanes).
+    template <class Real>
+    [[nodiscard]] Real wrap(Real x) const {
+        using std::floor;
+        const Real w = x - width_ * floor(x / width_);
+        return select(w < width_, w, Real(0.0));
     }
 
 private:

@@ -67,13 +67,7 @@ public:
         const double z_min = std::min(f.z0, f.z1), z_max = std::max(f.z0, f.z1);
         const double z_scale = std::abs(f.z0) + std::abs(f.z1);
         for (std::size_t i = 0; i < depths_.size(); ++i) {
-            const Envelope& e = envelopes_[i];
-            // A flight whose depths stay beyond the layer by more than the rounding of
-            // z0 + uz s and of the divisions in track_in_layer (< 1e-15 of the depths involved)
-            // has an empty track there, and one that does not reach the plane crosses nothing:
-            // skipping it changes no result.
-            const double margin = 1e-12 * (z_scale + e.depth_scale);
-            if (z_max < e.lo - margin || z_min > e.hi + margin) continue;
+            if (!reaches(envelopes_[i], z_min, z_max, z_scale)) continue;
             const double d = planes_[i];
             // Half-open crossing rule: a flight starting on the plane going down counts as Ed,
             // one ending on it going up counts as Eu (so the surface plane z = 0 works).
@@ -88,7 +82,32 @@ public:
         }
     }
 
+    /// Whether a flight over depths [z_min, z_max] (z_scale = |z0| + |z1|) may tally at any
+    /// depth: false only if record() would skip every layer. For doubles, or for SIMD vectors
+    /// of them (one flight per lane; the result is then a mask).
+    template <class Real>
+    [[nodiscard]] auto may_tally(Real z_min, Real z_max, Real z_scale) const {
+        auto any = z_max < z_min;  // false (flights have z_min <= z_max), of the right type
+        for (const Envelope& e : envelopes_) any = any || reaches(e, z_min, z_max, z_scale);
+        return any;
+    }
+
 private:
+    /// The depths where a layer's tallies can change: its layer and its plane.
+    struct Envelope {
+        double lo, hi, depth_scale;  ///< depth_scale = |layer lo| + |layer hi|, for the margin
+    };
+
+    /// A flight whose depths stay beyond the layer by more than the rounding of z0 + uz s and
+    /// of the divisions in track_in_layer (< 1e-15 of the depths involved) has an empty track
+    /// there, and one that does not reach the plane crosses nothing: skipping it changes no
+    /// result.
+    template <class Real>
+    static auto reaches(const Envelope& e, Real z_min, Real z_max, Real z_scale) {
+        const Real margin = 1e-12 * (z_scale + e.depth_scale);
+        return !(z_max < e.lo - margin || z_min > e.hi + margin);
+    }
+
     /// The part [ta, tb] of the flight's path [0, s] inside the layer [lo, hi] (ta >= tb: none).
     static std::pair<double, double> track_in_layer(double z0, double uz, double s, double lo, double hi) {
         if (uz == 0.0) return (z0 >= lo && z0 <= hi) ? std::pair{0.0, s} : std::pair{0.0, 0.0};
@@ -105,10 +124,6 @@ private:
     std::vector<double> depths_, planes_;
     double thickness_;
     std::vector<std::pair<double, double>> layers_;
-    /// The depths where a layer's tallies can change: its layer and its plane.
-    struct Envelope {
-        double lo, hi, depth_scale;  ///< depth_scale = |layer lo| + |layer hi|, for the margin
-    };
     std::vector<Envelope> envelopes_;
 };
 

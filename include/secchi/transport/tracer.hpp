@@ -97,16 +97,25 @@ public:
         : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(validated(std::move(settings))),
           layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
           continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
-          levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)) {}
+          levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(sun.direction()),
+          entry_reflectance_(surface.reflectance_from_air(sun_direction_)),
+          entry_direction_(surface.transmit_into_water(sun_direction_)) {}
 
     TransportResult<Record> run() const {
+        return run_blocks([this](const detail::Block& block) { return trace_block(block); });
+    }
+
+protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
+    /// Traces every block with `trace_block` (Block -> BlockResult) on the settings' threads
+    /// and merges the results in block order.
+    template <class TraceBlock>
+    TransportResult<Record> run_blocks(TraceBlock&& trace_block) const {
         const auto blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
         std::vector<detail::BlockResult<Record>> results(blocks.size());
         parallel_for(blocks.size(), s_.threads, [&](std::size_t i) { results[i] = trace_block(blocks[i]); });
         return merge(blocks, results);
     }
 
-private:
     static TransportSettings validated(TransportSettings s) {
         s.validate();
         require(s.batches <= record_max_batches<Record>(), "batches", s.batches,
@@ -139,17 +148,29 @@ private:
     /// then every photon split off it (in a fixed order, from the same random stream).
     void trace_photon(std::uint64_t index, detail::BlockResult<Record>& out, std::vector<PhotonState>& pending) const {
         PhotonRng rng(s_.seed, index);
-        PhotonState p{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_.direction(), 1.0, 0};
-        out.ledger.incident += 1.0;
-        if (!enter_water(p, rng, out.ledger)) return;
-        const bool stores = index < s_.map_photons;
-        const MapSlot slot{stores, static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0)};
+        PhotonState p;
+        if (!launch(p, rng, out.ledger)) return;
+        const MapSlot slot = map_slot(index);
         follow(p, rng, out, slot, pending);
         while (!pending.empty()) {
             p = pending.back();
             pending.pop_back();
             follow(p, rng, out, slot, pending);
         }
+    }
+
+    /// A photon from the sun at a uniform point of the section, through the surface (its
+    /// first draws from `rng`). False if it does not enter the water.
+    bool launch(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+        p = PhotonState{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_direction_, 1.0, 0};
+        ledger.incident += 1.0;
+        return enter_water(p, rng, ledger);
+    }
+
+    /// The map batch of photon `index`, if its events are stored.
+    MapSlot map_slot(std::uint64_t index) const {
+        const bool stores = index < s_.map_photons;
+        return {stores, static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0)};
     }
 
     /// One photon in the water until it ends.
@@ -205,9 +226,11 @@ private:
         return false;
     }
 
-    /// Transmission through the surface from the air (Fresnel). False if the photon is lost.
+    /// Transmission of a photon from the sun through the surface (Fresnel; every photon
+    /// arrives along the sun's direction, so its reflectance and refracted direction are
+    /// computed once). False if the photon is lost.
     bool enter_water(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        const double r = surface_.reflectance_from_air(p.dir);
+        const double r = entry_reflectance_;
         if (s_.absorption != AbsorptionMode::analog) {
             ledger.surface_reflected += r;  // expected value: the weight carries the transmittance
             p.w = 1.0 - r;
@@ -215,7 +238,7 @@ private:
             ledger.surface_reflected += 1.0;
             return false;
         }
-        p.dir = surface_.transmit_into_water(p.dir);
+        p.dir = entry_direction_;
         return true;
     }
 
@@ -299,8 +322,7 @@ private:
     /// expected number of copies is w I(z) and a record carries Phi / I(z) (importance.hpp).
     void store_event(const PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out,
                      std::uint8_t map_batch) const {
-        const vec3 wrapped{slab_.wrap(p.pos.x), slab_.wrap(p.pos.y), p.pos.z};
-        const Record rec = Record::make(wrapped, p.dir, band_index{0}, map_batch);
+        const Record rec = record_of(p, map_batch);
         if (!importance_on_) {
             if (s_.absorption == AbsorptionMode::analog || rng.uniform() < p.w) out.records.push_back(rec);
             return;
@@ -309,6 +331,13 @@ private:
         const double expected = p.w * levels_.factor(rec.position().z);
         const double copies = std::floor(expected + rng.uniform());
         for (double i = 0; i < copies; ++i) out.records.push_back(rec);
+    }
+
+    /// The record of a scattering event at the photon's position (wrapped into the section)
+    /// with its direction before scattering.
+    Record record_of(const PhotonState& p, std::uint8_t map_batch) const {
+        const vec3 wrapped{slab_.wrap(p.pos.x), slab_.wrap(p.pos.y), p.pos.z};
+        return Record::make(wrapped, p.dir, band_index{0}, map_batch);
     }
 
     /// Russian roulette on the photon's weight (its cumulative survival probability),
@@ -377,6 +406,9 @@ private:
     bool continuous_, importance_on_;
     ImportanceLevels levels_;
     double w0_;  ///< the albedo of a depth-independent medium
+    vec3 sun_direction_;       ///< of the photons arriving from the sun
+    double entry_reflectance_;  ///< their Fresnel reflectance at the surface
+    vec3 entry_direction_;     ///< and their direction in the water
 };
 
 }  // namespace secchi

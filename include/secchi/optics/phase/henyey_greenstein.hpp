@@ -34,11 +34,18 @@ public:
         return {d.cos_psi, d.phi, pdf(d.cos_psi)};
     }
     /// The direction of sample(u1, u2) without its density (what transport needs).
-    PhaseDirection sample_direction(double u1, double u2) const {
-        const double s = 2.0 * u1 - 1.0, g = g_;
-        const double num = s + 0.5 * g * (3.0 + s * s) + g * g * s + 0.5 * g * g * g * (s * s - 1.0);
-        const double den = (1.0 + g * s) * (1.0 + g * s);
-        return {std::clamp(num / den, -1.0, 1.0), two_pi * u2};
+    PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
+
+    /// The inverse CDF above, for a double or for a SIMD vector of them (photons in lanes,
+    /// transport/lane_tracer.hpp): the same operations in the same order.
+    template <class Real>
+    Real cos_psi(Real u1) const {
+        using std::max, std::min;
+        const Real s = 2.0 * u1 - 1.0;
+        const double g = g_;
+        const Real num = s + 0.5 * g * (3.0 + s * s) + g * g * s + 0.5 * g * g * g * (s * s - 1.0);
+        const Real den = (1.0 + g * s) * (1.0 + g * s);
+        return min(max(num / den, Real(-1.0)), Real(1.0));  // std::clamp(num / den, -1, 1)
     }
 
     double g() const { return g_; }

@@ -1,0 +1,304 @@
+#pragma once
+// The first pass with photons in lanes: PhotonTracer's physics (manual 3.3: free paths of
+// eq. 3.17, absorption or scattering by the albedo, equal-flux storage, Fresnel surface,
+// bottom, detectors, energy ledger) traced for lanes::lane_width photons at once. The step
+// every photon takes between events (free path, flight, absorption, storage, phase
+// sampling, rotation) runs on SIMD vectors, one photon per lane; what only some photons
+// meet (surface, bottom, a detector's layer, roulette, the end of a photon and the start of
+// the next) goes through PhotonTracer's own per-photon functions, lane by lane.
+//
+// Same problem, same estimates (within their standard errors; tests/test_lane_tracer.cpp),
+// not the same photons: each step draws one Philox block (four uniforms: free path,
+// absorption or storage, psi, phi) from the photon's stream, and a per-photon event draws
+// from the stream's next block, so the random numbers a photon uses differ from
+// PhotonTracer's. Still bit-identical for any thread count: a block of photons always
+// fills the lanes in the same order, and records and sums follow the lanes' order.
+//
+// For homogeneous water (depth_independent media), without depth importance (use
+// PhotonTracer for those). Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
+// Henyey-Greenstein) sample in the vectors; any other samples lane by lane.
+#include "secchi/core/lanes.hpp"
+#include "secchi/map/record_lanes.hpp"
+#include "secchi/transport/tracer.hpp"
+
+#if SECCHI_HAS_LANES
+namespace secchi {
+
+/// A phase function that samples cos psi for a vector of uniforms at once, with phi = 2 pi u2
+/// (as its scalar sample_direction does).
+template <class P>
+concept LanePhaseSampler = requires(const P p, lanes::Reals u) {
+    { p.cos_psi(u) } -> std::same_as<lanes::Reals>;
+};
+
+template <Medium M, PhotonRecord Record>
+    requires depth_independent<M> && std::default_initializable<Record>
+class LaneTracer : private PhotonTracer<M, Record> {
+    using Base = PhotonTracer<M, Record>;
+    using typename Base::PhotonState;
+    using Reals = lanes::Reals;
+    using Mask = lanes::Mask;
+    static constexpr int width = lanes::lane_width;
+    static constexpr auto aligned = lanes::aligned;
+
+public:
+    LaneTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
+               TransportSettings settings)
+        : Base(medium, slab, surface, sun, supported(std::move(settings))),
+          key_{static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)},
+          path_coefficient_(
+              medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0)) {}
+
+    TransportResult<Record> run() const {
+        return this->run_blocks([this](const detail::Block& block) { return trace_block(block); });
+    }
+
+private:
+    static TransportSettings supported(TransportSettings s) {
+        require(!s.importance.enabled(), "depth importance (cosine)", s.importance.cosine,
+                "LaneTracer does not split photons by depth; use PhotonTracer");
+        return s;
+    }
+
+    /// The photons in the lanes, one per lane, as structure of arrays.
+    struct Lanes {
+        alignas(64) double x[width], y[width], z[width], dx[width], dy[width], dz[width], w[width];
+        alignas(64) double order[width];     ///< scattering order (exact as a double)
+        alignas(64) double absorbed[width];  ///< weight absorbed in the water, per lane (summed at the end)
+        alignas(64) bool alive[width];
+        alignas(64) bool stores[width];      ///< whether the photon's events go into the map
+        std::uint8_t batch[width];           ///< and in which batch
+        std::uint64_t photon[width];         ///< the photon's index: its random stream
+        std::uint64_t block[width];          ///< its stream's next Philox block
+    };
+
+    /// The four uniforms of one step, per lane.
+    struct StepUniforms {
+        alignas(64) double path[width], absorb_or_store[width], psi[width], phi[width];
+    };
+
+    detail::BlockResult<Record> trace_block(const detail::Block& block) const {
+        detail::BlockResult<Record> out;
+        out.tally.assign(this->layers_.size(), IrradianceTally{});
+        Lanes lanes{};
+        std::uint64_t next = block.begin;
+        for (int l = 0; l < width; ++l) start(lanes, l, next, block.end, out.ledger);
+        while (std::any_of(std::begin(lanes.alive), std::end(lanes.alive), [](bool a) { return a; }))
+            step(lanes, next, block.end, out);
+        for (int l = 0; l < width; ++l) out.ledger.absorbed += lanes.absorbed[l];
+        return out;
+    }
+
+    /// Puts the block's next photon that enters the water into lane l (PhotonTracer::launch),
+    /// or parks the lane when the block has none left: a parked lane has zero weight, stores
+    /// nothing, and every per-lane action skips it.
+    void start(Lanes& L, int l, std::uint64_t& next, std::uint64_t end, EnergyLedger& ledger) const {
+        while (next < end) {
+            const std::uint64_t i = next++;
+            PhotonRng rng(this->s_.seed, i);
+            PhotonState p;
+            if (!this->launch(p, rng, ledger)) continue;
+            put(L, l, p);
+            L.photon[l] = i;
+            L.block[l] = rng.next_block();
+            const auto slot = this->map_slot(i);
+            L.stores[l] = slot.stores;
+            L.batch[l] = slot.batch;
+            L.alive[l] = true;
+            return;
+        }
+        put(L, l, PhotonState{{0.0, 0.0, 0.5 * this->slab_.floor_depth()}, {0.0, 0.0, 1.0}, 0.0, 0});
+        L.photon[l] = L.block[l] = 0;
+        L.stores[l] = false;
+        L.batch[l] = 0;
+        L.alive[l] = false;
+    }
+
+    static PhotonState photon(const Lanes& L, int l) {
+        return {{L.x[l], L.y[l], L.z[l]}, {L.dx[l], L.dy[l], L.dz[l]}, L.w[l], static_cast<unsigned>(L.order[l]), 0};
+    }
+    static void put(Lanes& L, int l, const PhotonState& p) {
+        L.x[l] = p.pos.x, L.y[l] = p.pos.y, L.z[l] = p.pos.z;
+        L.dx[l] = p.dir.x, L.dy[l] = p.dir.y, L.dz[l] = p.dir.z;
+        L.w[l] = p.w;
+        L.order[l] = p.order;
+    }
+
+    /// Runs a per-photon event `event(p, rng) -> bool` (false: the photon ends) on lane l's
+    /// photon, drawing from its stream's next unused blocks.
+    template <class Event>
+    void per_photon(Lanes& L, int l, Event&& event) const {
+        PhotonState p = photon(L, l);
+        PhotonRng rng(this->s_.seed, L.photon[l], L.block[l]);
+        L.alive[l] = event(p, rng);
+        L.block[l] = rng.next_block();
+        put(L, l, p);
+    }
+
+    /// One Philox block per lane (a loop the compiler vectorises), as four uniforms.
+    void draw(Lanes& L, StepUniforms& u) const {
+        for (int l = 0; l < width; ++l) {
+            const std::uint64_t b = L.block[l]++, i = L.photon[l];
+            const auto r = philox4x32_10({static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(b >> 32),
+                                          static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i >> 32)},
+                                         key_);
+            u.path[l] = uniform_from_bits(r[0]);
+            u.absorb_or_store[l] = uniform_from_bits(r[1]);
+            u.psi[l] = uniform_from_bits(r[2]);
+            u.phi[l] = uniform_from_bits(r[3]);
+        }
+    }
+
+    /// Every lane's photon to its next event: PhotonTracer::follow's loop body, per lane.
+    void step(Lanes& L, std::uint64_t& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
+        StepUniforms u;
+        draw(L, u);
+        const Mask alive(L.alive, aligned);
+        // Free path (eq. 3.17): s = -ln(u) / c (b with continuous absorption), cut at the
+        // surface or the floor if the photon gets there first.
+        const double floor_depth = this->slab_.floor_depth();
+        const Reals z(L.z, aligned), dz(L.dz, aligned);
+        const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
+        const Reals z_free = z + dz * s;
+        const Mask to_surface = z_free < 0.0, to_floor = z_free >= floor_depth;
+        const Reals t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
+        fly(L, alive, t, out);
+        const Mask at_boundary = alive && (to_surface || to_floor);
+        const Mask inside = alive && !at_boundary;
+        const lanes::Vec3 before{Reals(L.dx, aligned), Reals(L.dy, aligned), dz};
+        const Reals w(L.w, aligned);  // after the flight
+
+        // PhotonTracer::interact for the lanes inside: the scattering-order limit (manual
+        // 3.3.8), absorption by the albedo (3.3.5: all of an analog photon with probability
+        // 1 - w0, or the fraction 1 - w0 of its weight in implicit capture), storage, and a
+        // new direction from the phase function.
+        const Reals order(L.order, aligned);
+        Mask truncated = inside && (z != z);  // none
+        if (this->s_.max_order != 0) truncated = inside && order >= double(this->s_.max_order);
+        const Mask interacts = inside && !truncated;
+        const Reals u_absorb_or_store(u.absorb_or_store, aligned);
+        Mask absorbed = interacts && (z != z);  // none
+        Reals w_after = w, absorbed_weight(L.absorbed, aligned);
+        if (this->s_.absorption == AbsorptionMode::analog) {
+            absorbed = interacts && u_absorb_or_store >= this->w0_;
+            lanes::stdx::where(absorbed, absorbed_weight) = absorbed_weight + w;
+        } else if (this->s_.absorption == AbsorptionMode::implicit_capture) {
+            lanes::stdx::where(interacts, absorbed_weight) = absorbed_weight + w * (1.0 - this->w0_);
+            w_after = w * this->w0_;
+        }  // continuous: every interaction scatters
+        absorbed_weight.copy_to(L.absorbed, aligned);
+        const Mask scatters = interacts && !absorbed;
+        const auto [cos_psi, phi] = scattering_angles(u, Reals(L.z, aligned));
+        const lanes::Vec3 after = lanes::rotate_direction(before, cos_psi, phi);
+
+        for (unsigned b = lanes::bits_of(at_boundary); b; b &= b - 1) boundary(L, __builtin_ctz(b), z_free, out);
+        for (unsigned b = lanes::bits_of(truncated); b; b &= b - 1) {
+            const int l = __builtin_ctz(b);
+            out.ledger.truncated += L.w[l];
+            L.alive[l] = false;
+        }
+        for (unsigned b = lanes::bits_of(absorbed); b; b &= b - 1) L.alive[__builtin_ctz(b)] = false;
+        store_events(L, scatters, w_after, u_absorb_or_store, out);
+        scatter(L, scatters, w_after, after);
+        if (this->s_.roulette_weight != 0.0)
+            for (unsigned b = lanes::bits_of(scatters && w_after < this->s_.roulette_weight); b; b &= b - 1)
+                per_photon(L, __builtin_ctz(b), [&](PhotonState& p, PhotonRng& rng) { return this->roulette(p, rng, out.ledger); });
+        for (unsigned b = lanes::bits_of(alive); b; b &= b - 1) {
+            const int l = __builtin_ctz(b);
+            if (!L.alive[l]) start(L, l, next, end, out.ledger);
+        }
+    }
+
+    /// PhotonTracer::fly per lane: the detectors a flight may reach (tested in the vectors,
+    /// tallied lane by lane with IrradianceLayers::record), continuous absorption, the move.
+    void fly(Lanes& L, const Mask& alive, const Reals& t, detail::BlockResult<Record>& out) const {
+        const Reals z(L.z, aligned), dz(L.dz, aligned);
+        const Reals z1 = z + dz * t;
+        const Mask tallies =
+            alive && this->layers_.may_tally(lanes::stdx::min(z, z1), lanes::stdx::max(z, z1), lanes::stdx::abs(z) + lanes::stdx::abs(z1));
+        for (unsigned b = lanes::bits_of(tallies); b; b &= b - 1) {
+            const int l = __builtin_ctz(b);
+            const Flight flight{L.z[l], z1[l], L.dz[l], t[l], L.w[l]};
+            if (this->continuous_) this->layers_.record(flight, this->medium_, out.tally.data());
+            else this->layers_.record(flight, NoAbsorption{}, out.tally.data());
+        }
+        (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
+        (Reals(L.y, aligned) + Reals(L.dy, aligned) * t).copy_to(L.y, aligned);
+        z1.copy_to(L.z, aligned);
+        if (!this->continuous_) return;
+        for (unsigned b = lanes::bits_of(alive); b; b &= b - 1) {  // w exp(-a t), as PhotonTracer::fly
+            const int l = __builtin_ctz(b);
+            const double w = L.w[l] * std::exp(-this->medium_.optical_path(Coefficient::absorption, z[l], L.dz[l], t[l]));
+            L.absorbed[l] += L.w[l] - w;
+            L.w[l] = w;
+        }
+    }
+
+    /// A lane's photon at the surface (Fresnel reflection or escape) or at the floor (the
+    /// bottom's reflection, or transmission), by PhotonTracer's functions.
+    void boundary(Lanes& L, int l, const Reals& z_free, detail::BlockResult<Record>& out) const {
+        const bool surface = z_free[l] < 0.0;
+        per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
+            if (surface) return this->leave_or_reflect_at_surface(p, rng, out.ledger);
+            if (this->slab_.bottom().kind != BottomKind::none) out.bottom_ed += p.w;
+            return this->reflect_at_bottom(p, rng, out.ledger);
+        });
+    }
+
+    /// Equal-flux storage (PhotonTracer::store_event without depth importance): every event
+    /// of an analog photon, else with probability equal to the photon's weight. The records
+    /// are made for all lanes at once (LaneRecords) and appended in lane order.
+    void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
+                      detail::BlockResult<Record>& out) const {
+        Mask keep = scatters && Mask(L.stores, aligned);
+        if (this->s_.absorption != AbsorptionMode::analog) keep = keep && u < w;
+        const unsigned kept = lanes::bits_of(keep);
+        if (kept == 0) return;
+        const lanes::Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
+                                   Reals(L.z, aligned)};
+        const lanes::Vec3 direction{Reals(L.dx, aligned), Reals(L.dy, aligned), Reals(L.dz, aligned)};
+        Record records[width];
+        LaneRecords<Record>::make(position, direction, band_index{0}, L.batch, records);
+        for (unsigned b = kept; b; b &= b - 1) out.records.push_back(records[__builtin_ctz(b)]);
+    }
+
+    /// The scattered lanes take their new direction and weight, one order higher.
+    static void scatter(Lanes& L, const Mask& scatters, const Reals& w, const lanes::Vec3& after) {
+        auto update = [&](double* v, const Reals& value) {
+            Reals current(v, aligned);
+            lanes::stdx::where(scatters, current) = value;
+            current.copy_to(v, aligned);
+        };
+        update(L.dx, after.x);
+        update(L.dy, after.y);
+        update(L.dz, after.z);
+        update(L.w, w);
+        update(L.order, Reals(L.order, aligned) + 1.0);
+    }
+
+    struct Angles {
+        Reals cos_psi, phi;
+    };
+
+    /// The scattering angles from the step's uniforms (psi, phi): in the vectors for a phase
+    /// function with a lane sampler, else lane by lane (scattering_direction).
+    Angles scattering_angles(const StepUniforms& u, const Reals& z) const {
+        if constexpr (LanePhaseSampler<typename M::phase_type>) {
+            return {this->medium_.phase().cos_psi(Reals(u.psi, aligned)), two_pi * Reals(u.phi, aligned)};
+        } else {
+            alignas(64) double cos_psi[width], phi[width];
+            for (int l = 0; l < width; ++l) {
+                const PhaseDirection d = scattering_direction(this->medium_, z[l], u.psi[l], u.phi[l]);
+                cos_psi[l] = d.cos_psi;
+                phi[l] = d.phi;
+            }
+            return {Reals(cos_psi, aligned), Reals(phi, aligned)};
+        }
+    }
+
+    std::array<std::uint32_t, 2> key_;  ///< the seed as Philox's key (PhotonRng's)
+    double path_coefficient_;           ///< c, or b with continuous absorption (1/m)
+};
+
+}  // namespace secchi
+#endif

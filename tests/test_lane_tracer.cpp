@@ -1,0 +1,251 @@
+// Photons in lanes (core/lanes.hpp, map/record_lanes.hpp, transport/lane_tracer.hpp): the
+// vector kernels against their scalar counterparts, and LaneTracer against PhotonTracer on
+// the same problems. Statistical checks: within 4 combined standard errors (fixed in advance,
+// as in test_transport.cpp).
+#include <catch2/catch.hpp>
+#include "secchi/core/stats.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/petzold.hpp"
+#include "secchi/transport/lane_tracer.hpp"
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#if SECCHI_HAS_LANES
+using namespace secchi;
+using lanes::lane_width;
+using lanes::Reals;
+
+namespace {
+/// Lane l's value of `f(l)` as a vector.
+template <class F>
+Reals lanes_of(F&& f) {
+    return Reals([&](auto l) { return f(static_cast<int>(l)); });
+}
+
+/// |a - b| in units of the last place of b.
+double ulps(double a, double b) {
+    if (a == b) return 0.0;
+    const double ulp = std::nextafter(std::abs(b), INFINITY) - std::abs(b);
+    return std::abs(a - b) / ulp;
+}
+
+/// n uniform doubles in (0, 1) from one stream.
+std::vector<double> uniforms(std::size_t n, std::uint64_t stream) {
+    PhotonRng rng(7, stream);
+    std::vector<double> u(n);
+    for (double& x : u) x = rng.uniform();
+    return u;
+}
+
+/// A unit direction from two uniforms (uniform on the sphere).
+vec3 direction_of(double u1, double u2) {
+    const double mu = 2.0 * u1 - 1.0, phi = two_pi * u2, s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+    return {s * std::cos(phi), s * std::sin(phi), mu};
+}
+}  // namespace
+
+TEST_CASE("Lane log, sin_cos and rotation compute what the scalar kernels compute") {
+    const auto u = uniforms(4096, 1);
+    std::vector<double> x = u;  // the free path's arguments, and the extremes of (0, 1)
+    x.insert(x.end(), {uniform_from_bits(0), uniform_from_bits(0xffffffffu), 0.5, 1.0, 2.0, 1e300, 1e-300});
+    while (x.size() % lane_width) x.push_back(0.75);
+    double worst_log = 0;
+    for (std::size_t i = 0; i < x.size(); i += lane_width) {
+        const Reals v = lanes::log(lanes_of([&](int l) { return x[i + l]; }));
+        for (int l = 0; l < lane_width; ++l) worst_log = std::max(worst_log, ulps(v[l], std::log(x[i + l])));
+    }
+    INFO("lanes::log: worst " << worst_log << " ulp from std::log");
+    CHECK(worst_log <= 2.0);
+
+    double worst_sin_cos = 0, worst_rotation = 0;
+    for (std::size_t i = 0; i + 3 * lane_width <= u.size(); i += 3 * lane_width) {
+        const Reals phi = lanes_of([&](int l) { return two_pi * u[i + l]; });
+        const Reals cos_psi = lanes_of([&](int l) { return 2.0 * u[i + lane_width + l] - 1.0; });
+        std::vector<vec3> dirs(lane_width);
+        for (int l = 0; l < lane_width; ++l) dirs[l] = direction_of(u[i + 2 * lane_width + l], u[i + l]);
+        const lanes::SinCos sc = lanes::sin_cos(phi);
+        const lanes::Vec3 out = lanes::rotate_direction(
+            {lanes_of([&](int l) { return dirs[l].x; }), lanes_of([&](int l) { return dirs[l].y; }),
+             lanes_of([&](int l) { return dirs[l].z; })},
+            cos_psi, phi);
+        for (int l = 0; l < lane_width; ++l) {
+            const SinCos s = sin_cos(phi[l]);
+            worst_sin_cos = std::max({worst_sin_cos, ulps(sc.sin[l], s.sin), ulps(sc.cos[l], s.cos)});
+            const vec3 r = rotate_direction(dirs[l], cos_psi[l], phi[l]);
+            worst_rotation = std::max({worst_rotation, std::abs(out.x[l] - r.x), std::abs(out.y[l] - r.y),
+                                       std::abs(out.z[l] - r.z)});
+        }
+    }
+    INFO("lanes::sin_cos: worst " << worst_sin_cos << " ulp; rotation: worst " << worst_rotation);
+    CHECK(worst_sin_cos <= 1.0);   // the same operations (a fused multiply-add may round once less)
+    CHECK(worst_rotation <= 1e-15);
+}
+
+TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in lanes") {
+    const HenyeyGreensteinPhase hg(0.9);
+    const Slab slab(1.0, Bottom{}, 10.0);
+    const auto u = uniforms(1024, 2);
+    for (std::size_t i = 0; i < u.size(); i += lane_width) {
+        const Reals v = lanes_of([&](int l) { return u[i + l]; });
+        const Reals cos_psi = hg.cos_psi(v);
+        const Reals x = lanes_of([&](int l) { return 40.0 * u[i + l] - 20.0; });
+        const Reals wrapped = slab.wrap(x);
+        for (int l = 0; l < lane_width; ++l) {
+            CHECK(std::abs(cos_psi[l] - hg.sample_direction(u[i + l], 0.5).cos_psi) <= 1e-15);
+            CHECK(wrapped[l] == slab.wrap(x[l]));
+        }
+    }
+}
+
+TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte for byte") {
+    const auto u = uniforms(3 * 8192, 3);
+    std::vector<vec3> dirs;
+    for (std::size_t i = 0; i + 1 < u.size(); i += 2) dirs.push_back(direction_of(u[i], u[i + 1]));
+    // Poles (atan2's choices at dx = +-0), axes, and polar directions on the theta boundaries.
+    for (double z : {1.0, -1.0})
+        for (double x : {0.0, -0.0}) dirs.push_back({x, 0.0, z});
+    for (const vec3& d : {vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0)}) dirs.push_back(d);
+    const auto& edges = detail::direction_encode_tables().theta_edge;
+    for (int k = 1; k < 256; ++k) dirs.push_back({std::sqrt(1.0 - edges[k] * edges[k]), 0.0, edges[k]});
+    while (dirs.size() % lane_width) dirs.push_back({0.0, 0.0, 1.0});
+
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < dirs.size(); i += lane_width) {
+        auto component = [&](auto member) { return lanes_of([&](int l) { return dirs[i + l].*member; }); };
+        const lanes::Vec3 d{component(&vec3::x), component(&vec3::y), component(&vec3::z)};
+        const lanes::Vec3 p{lanes_of([&](int l) { return u[i + l]; }), lanes_of([&](int l) { return 0.5 * u[i + l]; }),
+                            lanes_of([&](int l) { return 30.0 * u[i + l]; })};
+        std::uint8_t batch[lane_width];
+        for (int l = 0; l < lane_width; ++l) batch[l] = static_cast<std::uint8_t>((i + l) % 64);
+        CompactRecord made[lane_width];
+        LaneRecords<CompactRecord>::make(p, d, band_index{0}, batch, made);
+        for (int l = 0; l < lane_width; ++l) {
+            const CompactRecord ref = CompactRecord::make({p.x[l], p.y[l], p.z[l]}, dirs[i + l], band_index{0}, batch[l]);
+            differing += std::memcmp(&ref, &made[l], sizeof ref) != 0;
+        }
+    }
+    CHECK(differing == 0);
+}
+
+TEST_CASE("may_tally is false only for flights that record() leaves untallied") {
+    const IrradianceLayers layers({0.0, 1.0, 5.0}, 0.02, 20.0);
+    const auto u = uniforms(3 * 4096, 4);
+    std::size_t skipped = 0;
+    for (std::size_t i = 0; i + 3 * lane_width <= u.size(); i += 3 * lane_width) {
+        const Reals z0 = lanes_of([&](int l) { return 8.0 * u[i + l]; });
+        const Reals z1 = lanes_of([&](int l) { return 8.0 * u[i + lane_width + l]; });
+        const auto may = layers.may_tally(lanes::stdx::min(z0, z1), lanes::stdx::max(z0, z1),
+                                          lanes::stdx::abs(z0) + lanes::stdx::abs(z1));
+        for (int l = 0; l < lane_width; ++l) {
+            const double a = z0[l], b = z1[l], s = std::max(std::abs(b - a), 1e-3);
+            CHECK(may[l] == layers.may_tally(std::min(a, b), std::max(a, b), std::abs(a) + std::abs(b)));
+            if (may[l]) continue;
+            ++skipped;
+            std::vector<IrradianceTally> tally(3, IrradianceTally{});
+            layers.record(Flight{a, b, (b - a) / s, s, 1.0}, NoAbsorption{}, tally.data());
+            for (const auto& t : tally)
+                for (double v : t) CHECK(v == 0.0);
+        }
+    }
+    CHECK(skipped > 100);  // the test saw flights it may skip
+}
+
+namespace {
+template <template <class, class> class Tracer, class Phase>
+TransportResult<CompactRecord> trace(const Phase& phase, TransportSettings s, Bottom bottom) {
+    const auto medium = HomogeneousWater<Phase>::from_albedo(1.0, 0.8, phase);
+    const Slab slab(1.0, bottom, 30.0);
+    return Tracer<HomogeneousWater<Phase>, CompactRecord>(medium, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
+}
+
+/// Stored events per map photon, per batch (CompactRecord labels each record's batch).
+Estimate events_per_photon(const TransportResult<CompactRecord>& r) {
+    std::vector<double> per_batch(r.batches, 0.0);
+    for (const auto& rec : r.records) per_batch[rec.batch()] += 1.0;
+    for (unsigned b = 0; b < r.batches; ++b) {
+        const double lo = static_cast<double>(r.map_photons * b / r.batches);
+        const double hi = static_cast<double>(r.map_photons * (b + 1) / r.batches);
+        per_batch[b] /= hi - lo;
+    }
+    return batch_estimate(per_batch);
+}
+
+void check_agree(const Estimate& x, const Estimate& y, const char* what) {
+    INFO(what << ": PhotonTracer " << x.value << " +- " << x.se << ", LaneTracer " << y.value << " +- " << y.se);
+    CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
+}
+}  // namespace
+
+TEST_CASE("LaneTracer and PhotonTracer agree within their standard errors") {
+    // Every absorption mode, a Lambertian bottom, Fresnel surface, roulette, a truncation
+    // by scattering order, and a phase function sampled lane by lane (Petzold).
+    struct Case {
+        AbsorptionMode mode;
+        unsigned max_order;
+    };
+    for (const Case c : {Case{AbsorptionMode::analog, 0}, Case{AbsorptionMode::implicit_capture, 0},
+                         Case{AbsorptionMode::continuous, 0}, Case{AbsorptionMode::analog, 3}}) {
+        TransportSettings s;
+        s.photons = s.map_photons = 60000;
+        s.depths = {0.0, 1.0, 3.0, 6.0};
+        s.absorption = c.mode;
+        s.max_order = c.max_order;
+        const Bottom bottom = Bottom::lambertian_at(6.0, 0.5);
+        const auto a = trace<PhotonTracer>(HenyeyGreensteinPhase(0.85), s, bottom);
+        const auto b = trace<LaneTracer>(HenyeyGreensteinPhase(0.85), s, bottom);
+        INFO("absorption mode " << static_cast<int>(c.mode) << ", max order " << c.max_order);
+        for (std::size_t i = 0; i < s.depths.size(); ++i)
+            for (int k = 0; k < 4; ++k) check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance");
+        check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
+        check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
+        CHECK(b.ledger.incident == 1.0);
+        CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : 5e-3));
+        if (c.max_order) CHECK(b.ledger.truncated > 0.01);
+    }
+    TransportSettings s;
+    s.photons = s.map_photons = 40000;
+    s.depths = {1.0, 4.0};
+    s.absorption = AbsorptionMode::implicit_capture;
+    const auto a = trace<PhotonTracer>(petzold_m93(), s, Bottom{});
+    const auto b = trace<LaneTracer>(petzold_m93(), s, Bottom{});
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) check_agree(a.irradiance[i][k], b.irradiance[i][k], "Petzold irradiance");
+    check_agree(events_per_photon(a), events_per_photon(b), "Petzold stored events per photon");
+}
+
+TEST_CASE("LaneTracer is bit-identical for 1 and 2 threads") {
+    TransportSettings s;
+    s.photons = 30000;
+    s.map_photons = 20000;
+    s.depths = {0.0, 1.0, 5.0};
+    s.block_size = 1000;
+    s.absorption = AbsorptionMode::implicit_capture;
+    s.threads = 1;
+    const auto a = trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
+    s.threads = 2;
+    const auto b = trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
+    REQUIRE(a.records.size() == b.records.size());
+    REQUIRE(std::memcmp(a.records.data(), b.records.data(), a.records.size() * sizeof(CompactRecord)) == 0);
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            REQUIRE(a.irradiance[i][k].value == b.irradiance[i][k].value);
+            REQUIRE(a.irradiance[i][k].se == b.irradiance[i][k].se);
+        }
+    REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
+    REQUIRE(a.bottom_ed.value == b.bottom_ed.value);
+}
+
+TEST_CASE("LaneTracer rejects depth importance by name") {
+    TransportSettings s;
+    s.photons = 100;
+    s.importance.cosine = 0.5;
+    s.importance.max_depth = 5.0;
+    const auto medium = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.8, HenyeyGreensteinPhase(0.8));
+    const auto make = [&] {
+        return LaneTracer<HomogeneousWater<HenyeyGreensteinPhase>, CompactRecord>(
+            medium, Slab(1.0, Bottom{}, 10.0), FlatSurface(1.34), CollimatedSun(0.0), s);
+    };
+    CHECK_THROWS_WITH(make(), Catch::Contains("depth importance"));
+}
+#endif
