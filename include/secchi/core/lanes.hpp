@@ -5,9 +5,11 @@
 // branch per photon: the same Cody-Waite sin_cos, the same frame rotation, and a logarithm
 // for the free path -ln u (manual eq. 3.17). LaneTracer (transport/lane_tracer.hpp) uses them.
 //
-// The lane count is fixed (8) whatever the target's vector width (2 doubles with SSE2, 4 with
-// AVX2, 8 with AVX-512), so results do not depend on the instruction set the code is
-// compiled for (beyond the compiler's contraction of a*b+c into fused multiply-adds).
+// The lanes are the target's native vector of doubles (2 with SSE2, 4 with AVX2, 8 with
+// AVX-512): a portable build gains little from them; one for AVX2 or better does
+// (BENCHMARKS.md). A photon's history does not depend on the lane count (each photon draws
+// from its own random stream); the order of the stored records and the rounding of the
+// tallies' sums do.
 #if __has_include(<experimental/simd>)
 #include <experimental/simd>
 #define SECCHI_HAS_LANES 1

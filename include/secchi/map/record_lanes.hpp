@@ -3,8 +3,9 @@
 // transport/lane_tracer.hpp). LaneRecords<R>::make(p, d, band, batch, out) writes
 // out[l] = R::make(p_l, d_l, band, batch[l]) for every lane l. A record type without a
 // specialisation is made lane by lane; CompactRecord's direction bytes are encoded in the
-// vectors by the guess-and-correct of detail::encode_theta and encode_phi (record.hpp), the
-// same operations without a branch, so the bytes equal make()'s (tests/test_lane_tracer.cpp).
+// vectors by the guess-and-correct of detail::encode_theta and encode_phi (record.hpp), with
+// the table lookups of the correction only where a guess is near a bin boundary; the bytes
+// equal make()'s (tests/test_lane_tracer.cpp).
 #include "secchi/core/lanes.hpp"
 #include "secchi/map/record.hpp"
 
@@ -21,37 +22,61 @@ struct LaneRecords {
 };
 
 namespace detail {
-/// encode_theta per lane (the byte as a double).
+/// encode_theta per lane (the byte as a double). The guess is within 0.006 bin of the exact
+/// angle, so it is the answer unless it lies within that of a bin boundary: the two table
+/// lookups of the correction are made only when some lane is that close (one step in ten).
 SECCHI_LANE_KERNEL lanes::Reals encode_theta(const lanes::Reals& dz) {
-    using lanes::Reals;
+    using lanes::Reals, lanes::stdx::floor;
     const auto& t = direction_encode_tables();
     const Reals abs_dz = lanes::stdx::abs(dz);
     const Reals x = select(abs_dz < 1.0, abs_dz, Reals(1.0));
     const Reals acos_x = lanes::stdx::sqrt(1.0 - x) * (1.5707288 + x * (-0.2121144 + x * (0.0742610 - 0.0187293 * x)));
     const Reals theta = select(dz < 0.0, pi - acos_x, acos_x);
-    Reals k = lanes::stdx::min(Reals(255.0), lanes::stdx::floor(theta * (256.0 / pi)));
+    const Reals bins = theta * (256.0 / pi);
+    Reals k = lanes::stdx::min(Reals(255.0), floor(bins));
+    const Reals fraction = bins - floor(bins);
+    if (none_of(fraction < 0.01 || fraction > 0.99)) return k;
     lanes::stdx::where(dz <= lanes::lookup(t.theta_edge, k + 1.0), k) += 1.0;  // at or past the upper boundary
     lanes::stdx::where(dz > lanes::lookup(t.theta_edge, k), k) -= 1.0;         // before the lower boundary
     return k;
 }
 
-/// encode_phi per lane (the byte as a double).
-SECCHI_LANE_KERNEL lanes::Reals encode_phi(const lanes::Reals& dx, const lanes::Reals& dy) {
+/// atan r for r in [0, 1], to 3e-9 rad: atan r = pi/4 + atan((r - 1)/(r + 1)) above
+/// tan(pi/8), which leaves |x| <= tan(pi/8) for the Taylor series to x^17.
+SECCHI_LANE_KERNEL lanes::Reals atan_unit(const lanes::Reals& r) {
     using lanes::Reals;
+    const auto reduced = r > 0.41421356237309503;
+    const Reals x = select(reduced, (r - 1.0) / (r + 1.0), r), x2 = x * x;
+    const Reals series =
+        x + x * x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 + x2 * (-1.0 / 11 + x2 * (1.0 / 13 +
+        x2 * (-1.0 / 15 + x2 * (1.0 / 17))))))));
+    return select(reduced, 0.25 * pi + series, series);
+}
+
+/// encode_phi per lane (the byte as a double). Its guess of the azimuth comes from atan_unit
+/// (within 1e-7 bin) instead of encode_phi's coarse one (0.07 bin): both land in the exact
+/// bin away from its boundaries, and near one (rarely: then for all lanes) the same
+/// cross-product test with the boundary decides, as in encode_phi.
+SECCHI_LANE_KERNEL lanes::Reals encode_phi(const lanes::Reals& dx, const lanes::Reals& dy) {
+    using lanes::Reals, lanes::stdx::floor;
     const auto& t = direction_encode_tables();
     const auto pole = dx == 0.0 && dy == 0.0;
     const Reals ax = lanes::stdx::abs(dx), ay = lanes::stdx::abs(dy);
-    const Reals r = select(pole, Reals(0.0), lanes::stdx::min(ax, ay) / lanes::stdx::max(ax, ay));
-    Reals a = r * (0.25 * pi - (r - 1.0) * (0.2447 + 0.0663 * r));  // atan(r), r in [0, 1]
+    Reals a = atan_unit(select(pole, Reals(0.0), lanes::stdx::min(ax, ay) / lanes::stdx::max(ax, ay)));
     a = select(ay > ax, 0.5 * pi - a, a);
     a = select(dx < 0.0, pi - a, a);
     a = select(dy < 0.0, two_pi - a, a);
-    Reals j = lanes::stdx::floor(a * (256.0 / two_pi) + 0.5);  // a >= 0: the truncation of encode_phi
+    const Reals bins = a * (256.0 / two_pi) + 0.5;
+    Reals j = floor(bins);  // a >= 0: the truncation of encode_phi
     j = select(j >= 256.0, j - 256.0, j);
-    const Reals below = select(j == 0.0, Reals(255.0), j - 1.0), above = select(j == 255.0, Reals(0.0), j + 1.0);
-    const auto past_upper = lanes::lookup(t.phi_edge_cos, j) * dy - lanes::lookup(t.phi_edge_sin, j) * dx >= 0.0;
-    const auto before_lower = lanes::lookup(t.phi_edge_cos, below) * dy - lanes::lookup(t.phi_edge_sin, below) * dx < 0.0;
-    j = select(past_upper, above, select(before_lower, below, j));
+    const Reals fraction = bins - floor(bins);
+    if (any_of(fraction < 1e-6 || fraction > 1.0 - 1e-6)) {
+        const Reals below = select(j == 0.0, Reals(255.0), j - 1.0), above = select(j == 255.0, Reals(0.0), j + 1.0);
+        const auto past_upper = lanes::lookup(t.phi_edge_cos, j) * dy - lanes::lookup(t.phi_edge_sin, j) * dx >= 0.0;
+        const auto before_lower =
+            lanes::lookup(t.phi_edge_cos, below) * dy - lanes::lookup(t.phi_edge_sin, below) * dx < 0.0;
+        j = select(past_upper, above, select(before_lower, below, j));
+    }
     // At the poles, atan2's choice: 0, or 128 for dx = -0.
     return select(pole, select(lanes::stdx::copysign(Reals(1.0), dx) < 0.0, Reals(128.0), Reals(0.0)), j);
 }

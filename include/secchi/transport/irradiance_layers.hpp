@@ -82,6 +82,35 @@ public:
         }
     }
 
+    /// record() for one flight per SIMD lane (Real: a std::experimental::simd of doubles;
+    /// photons in lanes, transport/lane_tracer.hpp) without absorption along the flights
+    /// (NoAbsorption), for the lanes in `active`: the same tests and arithmetic lane by lane,
+    /// each layer's tallies summed per lane into `tally` (the caller sums the lanes).
+    /// tests/test_lane_tracer.cpp checks it against record().
+    template <class Real, class Mask>
+    void record_lanes(const Real& z0, const Real& z1, const Real& uz, const Real& s, const Real& w, const Mask& active,
+                      std::array<Real, 4>* tally) const {
+        using std::abs, std::max, std::min;
+        const Real z_min = min(z0, z1), z_max = max(z0, z1), z_scale = abs(z0) + abs(z1);
+        for (std::size_t i = 0; i < depths_.size(); ++i) {
+            const Mask reached = active && reaches(envelopes_[i], z_min, z_max, z_scale);
+            if (none_of(reached)) continue;
+            const double d = planes_[i];
+            // Plane crossings (the weight is w all along the flight without absorption).
+            where(reached && uz > 0.0 && z0 <= d && d < z1, tally[i][Ed]) += w;
+            where(reached && uz < 0.0 && z1 <= d && d < z0, tally[i][Eu]) += w;
+            // Track length in the layer (track_in_layer), times w / D.
+            const auto [lo, hi] = layers_[i];
+            const Real t_lo = (lo - z0) / uz, t_hi = (hi - z0) / uz;
+            const Mask level = uz == 0.0;
+            const Real ta = select(level, Real(0.0), max(min(t_lo, t_hi), Real(0.0)));
+            const Real tb = select(level, select(z0 >= lo && z0 <= hi, s, Real(0.0)), min(max(t_lo, t_hi), s));
+            const Real track = w * (tb - ta) / thickness_;
+            where(reached && tb > ta && uz >= 0.0, tally[i][Eod]) += track;
+            where(reached && tb > ta && !(uz >= 0.0), tally[i][Eou]) += track;
+        }
+    }
+
     /// Whether a flight over depths [z_min, z_max] (z_scale = |z0| + |z1|) may tally at any
     /// depth: false only if record() would skip every layer. For doubles, or for SIMD vectors
     /// of them (one flight per lane; the result is then a mask).

@@ -12,7 +12,9 @@
 // absorption or storage, psi, phi) from the photon's stream, and a per-photon event draws
 // from the stream's next block, so the random numbers a photon uses differ from
 // PhotonTracer's. Still bit-identical for any thread count: a block of photons always
-// fills the lanes in the same order, and records and sums follow the lanes' order.
+// fills the lanes in the same order, and records and sums follow the lanes' order. The
+// photons' histories are the same for any lane count (any target); the records' order and
+// the sums' last bits are not (core/lanes.hpp).
 //
 // For homogeneous water (depth_independent media), without depth importance (use
 // PhotonTracer for those). Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
@@ -70,6 +72,7 @@ private:
         std::uint8_t batch[width];           ///< and in which batch
         std::uint64_t photon[width];         ///< the photon's index: its random stream
         std::uint64_t block[width];          ///< its stream's next Philox block
+        std::vector<std::array<Reals, 4>> tally;  ///< per depth, per lane (summed at the end)
     };
 
     /// The four uniforms of one step, per lane.
@@ -81,11 +84,15 @@ private:
         detail::BlockResult<Record> out;
         out.tally.assign(this->layers_.size(), IrradianceTally{});
         Lanes lanes{};
+        lanes.tally.assign(this->layers_.size(), {Reals(0.0), Reals(0.0), Reals(0.0), Reals(0.0)});
         std::uint64_t next = block.begin;
         for (int l = 0; l < width; ++l) start(lanes, l, next, block.end, out.ledger);
         while (std::any_of(std::begin(lanes.alive), std::end(lanes.alive), [](bool a) { return a; }))
             step(lanes, next, block.end, out);
         for (int l = 0; l < width; ++l) out.ledger.absorbed += lanes.absorbed[l];
+        for (std::size_t i = 0; i < lanes.tally.size(); ++i)
+            for (int k = 0; k < 4; ++k)
+                for (int l = 0; l < width; ++l) out.tally[i][k] += lanes.tally[i][k][l];
         return out;
     }
 
@@ -209,18 +216,20 @@ private:
         }
     }
 
-    /// PhotonTracer::fly per lane: the detectors a flight may reach (tested in the vectors,
-    /// tallied lane by lane with IrradianceLayers::record), continuous absorption, the move.
+    /// PhotonTracer::fly per lane: the detectors (in the vectors, or lane by lane when the
+    /// weight decays along the flight), continuous absorption, the move.
     void fly(Lanes& L, const Mask& alive, const Reals& t, detail::BlockResult<Record>& out) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         const Reals z1 = z + dz * t;
-        const Mask tallies =
-            alive && this->layers_.may_tally(lanes::stdx::min(z, z1), lanes::stdx::max(z, z1), lanes::stdx::abs(z) + lanes::stdx::abs(z1));
-        for (unsigned b = lanes::bits_of(tallies); b; b &= b - 1) {
-            const int l = __builtin_ctz(b);
-            const Flight flight{L.z[l], z1[l], L.dz[l], t[l], L.w[l]};
-            if (this->continuous_) this->layers_.record(flight, this->medium_, out.tally.data());
-            else this->layers_.record(flight, NoAbsorption{}, out.tally.data());
+        if (!this->continuous_) {
+            this->layers_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
+        } else {
+            using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
+            const Mask tallies = alive && this->layers_.may_tally(min(z, z1), max(z, z1), abs(z) + abs(z1));
+            for (unsigned b = lanes::bits_of(tallies); b; b &= b - 1) {
+                const int l = __builtin_ctz(b);
+                this->layers_.record(Flight{L.z[l], z1[l], L.dz[l], t[l], L.w[l]}, this->medium_, out.tally.data());
+            }
         }
         (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
         (Reals(L.y, aligned) + Reals(L.dy, aligned) * t).copy_to(L.y, aligned);
