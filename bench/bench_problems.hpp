@@ -5,10 +5,12 @@
 // continuous absorption); the propagation figures use (HG or Petzold, w0 = 0.9, sun at zenith,
 // n = 1, analog absorption).
 #include "secchi/solver/plane_parallel.hpp"
+#include "secchi/transport/lane_tracer.hpp"
 
 namespace secchi::bench {
 
-template <class Record, class Phase>
+/// Traced by PhotonTracer, or by another tracer of the same interface (LaneTracer).
+template <class Record, template <class, class> class Tracer = PhotonTracer, class Phase>
 TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_deg, double n_water,
                                    std::uint64_t photons, unsigned threads, AbsorptionMode mode) {
     const auto water = HomogeneousWater<Phase>::from_albedo(1.0, w0, phase);
@@ -18,8 +20,7 @@ TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_
     s.absorption = mode;
     s.depths = {1.0, 5.0, 10.0};
     const Slab slab(1.0, Bottom{}, 42.0);
-    return PhotonTracer<HomogeneousWater<Phase>, Record>(water, slab, FlatSurface(n_water), CollimatedSun(zenith_deg), s)
-        .run();
+    return Tracer<HomogeneousWater<Phase>, Record>(water, slab, FlatSurface(n_water), CollimatedSun(zenith_deg), s).run();
 }
 
 }  // namespace secchi::bench

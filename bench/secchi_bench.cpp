@@ -2,7 +2,7 @@
 //   secchi_bench [--quick] [--json FILE]
 // Each figure is the median of repeated timed runs. Propagation: scattering events per second
 // per core (analog transport, w0 = 0.9, every scattering stored), for the Henyey-Greenstein
-// (g = 0.9) and Petzold samplers; photons per second for problems 1a, 2a and 2b on 1 and 2
+// (g = 0.9) and Petzold samplers, and for HG with LaneTracer (photons in SIMD lanes); photons per second for problems 1a, 2a and 2b on 1 and 2
 // threads (thread_speedup_propagation is problem 2a's). Collection: rays per
 // second through a problem-2a map, k-d tree spheres at n = 32 against the VOI cylinder at the
 // same radius. Thread speed-ups: 2 threads against 1 on the same work, alternated run by run
@@ -35,11 +35,11 @@ using namespace secchi;
 using namespace secchi::bench;
 
 /// Scattering events per second on one core: analog transport, all events stored.
-template <class Phase>
+template <class Phase, template <class, class> class Tracer = PhotonTracer>
 double events_per_second(const Phase& phase, std::uint64_t photons, int repeats) {
     std::size_t events = 0;
     const double t = time_runs(repeats, [&] {
-        events = trace_slab<CompactRecord>(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records.size();
+        events = trace_slab<CompactRecord, Tracer>(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records.size();
     }).median;
     return static_cast<double>(events) / t;
 }
@@ -98,6 +98,12 @@ int main(int argc, char** argv) {
         const TabulatedPhase petzold = petzold_m93();
         fig["events_per_s_per_core_hg"] = events_per_second(hg, 100'000 * scale, repeats);
         fig["events_per_s_per_core_petzold"] = events_per_second(petzold, 100'000 * scale, repeats);
+#if SECCHI_HAS_LANES
+        // LaneTracer at this build's vector width (2 doubles in a portable x86-64 build;
+        // walk_bench, built for the machine, has the wide-vector figure).
+        fig["events_per_s_per_core_hg_lanes"] = events_per_second<HenyeyGreensteinPhase, LaneTracer>(hg, 100'000 * scale, repeats);
+        fig["lane_width"] = lanes::lane_width;
+#endif
 
         // Photons per second for problems 1a, 2a and 2b (sun at 60 deg, n = 1.34, continuous
         // absorption as in the conformance runs), on 1 and 2 threads.

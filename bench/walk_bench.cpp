@@ -14,9 +14,9 @@
 //  - lanes: one photon per SIMD lane (std::experimental::simd of doubles at the target's
 //    native width), the log, sine and cosine by branch-free polynomials, xoshiro256+ or
 //    Philox per lane; a lane whose photon ends starts the next one.
-// And secchi: PhotonTracer on the same problem (slab 42 m deep, detectors at 1, 5, 10 m,
-// CompactRecord with Jensen's direction bytes, analog absorption: secchi_bench's
-// events_per_s_per_core_hg), with its ratio to each walk.
+// And secchi: PhotonTracer and LaneTracer on the same problem (slab 42 m deep, detectors at
+// 1, 5, 10 m, CompactRecord with Jensen's direction bytes, analog absorption: secchi_bench's
+// events_per_s_per_core_hg), with their ratios to each walk.
 //
 // This program is built with -march=native where the compiler accepts it (bench/CMakeLists.txt)
 // so that the lanes use the machine's widest vectors; secchi's figure here is therefore that of
@@ -32,8 +32,7 @@
 #include <iostream>
 #include <string>
 #include <vector>
-#if __has_include(<experimental/simd>)
-#include <experimental/simd>
+#if SECCHI_HAS_LANES
 #define SECCHI_WALK_LANES 1
 #endif
 
@@ -138,57 +137,18 @@ std::size_t scalar_walk_philox(std::uint64_t photons, std::vector<WalkRecord>& o
 }
 
 #ifdef SECCHI_WALK_LANES
+// The lanes, and their log and sin_cos, are the library's (core/lanes.hpp).
 namespace stdx = std::experimental;
-using V = stdx::native_simd<double>;
-using U = stdx::rebind_simd_t<std::uint64_t, V>;
-using I = stdx::rebind_simd_t<std::int64_t, V>;
-constexpr int lanes = static_cast<int>(V::size());
-
-/// ln x for x in (0, 1): x = 2^e m with m in [sqrt(1/2), sqrt 2) from the bits; ln m = 2 atanh f,
-/// f = (m - 1)/(m + 1), |f| < 0.172, by its series to f^21 (truncation < 1e-17).
-V log_lanes(V x) {
-    constexpr std::uint64_t sqrt_half = 0x3fe6a09e667f3bcdull;
-    const U adj = stdx::__proposed::simd_bit_cast<U>(x) + U(0x3ff0000000000000ull - sqrt_half);
-    const V e = stdx::static_simd_cast<V>(stdx::static_simd_cast<I>(adj >> 52) - I(1023));
-    const V m = stdx::__proposed::simd_bit_cast<V>((adj & U(0x000fffffffffffffull)) + U(sqrt_half));
-    const V f = (m - 1.0) / (m + 1.0), f2 = f * f;
-    V p(2.0 / 21);
-    for (int k = 19; k >= 3; k -= 2) p = 2.0 / k + f2 * p;
-    constexpr double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
-    return e * ln2_hi + (2.0 * f + (f * f2 * p + e * ln2_lo));
-}
-
-/// sin and cos of x in [0, 2 pi]: the reduction and series of secchi::sin_cos, with the
-/// quadrant chosen by masks instead of a switch.
-void sin_cos_lanes(V x, V& sin_out, V& cos_out) {
-    constexpr double pio2_1 = 1.5707963267341256, pio2_2 = 6.077100506303966e-11, pio2_3 = 2.0222662487959506e-21;
-    const V k = (x * 0.6366197723675814 + 0x1.8p52) - 0x1.8p52;
-    const V r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3, r2 = r * r;
-    V ps(2.8114572543455206e-15), pc(-1.5619206968586225e-16);
-    for (double c : {-7.647163731819816e-13, 1.6059043836821613e-10, -2.505210838544172e-08, 2.7557319223985893e-06,
-                     -0.0001984126984126984, 0.008333333333333333, -0.16666666666666666})
-        ps = c + r2 * ps;
-    for (double c : {4.779477332387385e-14, -1.1470745597729725e-11, 2.08767569878681e-09, -2.755731922398589e-07,
-                     2.48015873015873e-05, -0.001388888888888889, 0.041666666666666664})
-        pc = c + r2 * pc;
-    const V s = r + r * r2 * ps, c = (1.0 - 0.5 * r2) + r2 * r2 * pc;
-    const V q = k - 4.0 * stdx::floor(k * 0.25);  // quadrant 0..3
-    const auto odd = (q == 1.0) || (q == 3.0);
-    V a = s, b = c;
-    stdx::where(odd, a) = c;
-    stdx::where(odd, b) = s;
-    stdx::where(q >= 2.0, a) = -a;
-    stdx::where((q == 1.0) || (q == 2.0), b) = -b;
-    sin_out = a;
-    cos_out = b;
-}
+using V = lanes::Reals;
+using U = lanes::Words;
+constexpr int lane_count = lanes::lane_width;
 
 /// Four uniforms per lane and step: xoshiro256+ per lane.
 class XoshiroLanes {
 public:
     XoshiroLanes() {
-        std::uint64_t seed = 1, w[4][lanes];
-        for (int l = 0; l < lanes; ++l)
+        std::uint64_t seed = 1, w[4][lane_count];
+        for (int l = 0; l < lane_count; ++l)
             for (auto& row : w) row[l] = Xoshiro::splitmix(seed);
         for (int k = 0; k < 4; ++k) s_[k] = U([&](auto l) { return w[k][l]; });
     }
@@ -229,7 +189,7 @@ public:
     }
 
 private:
-    std::uint64_t ctr_[lanes] = {}, stream_[lanes] = {};
+    std::uint64_t ctr_[lane_count] = {}, stream_[lane_count] = {};
 };
 
 /// The bare walk with one photon per lane, branch-free except where a photon ends.
@@ -240,7 +200,7 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
     V x(0.0), y(0.0), z(0.0), dx(0.0), dy(0.0), dz(1.0);
     std::uint64_t next = 0;
     int live = 0;
-    bool alive[lanes] = {};
+    bool alive[lane_count] = {};
     auto start = [&](int l) {  // lane l takes the next photon, or idles (parked above z = 0)
         alive[l] = next < photons;
         live += alive[l];
@@ -249,26 +209,25 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
         z[l] = alive[l] ? 0.0 : -1e300;
         dz[l] = 1.0;
     };
-    for (int l = 0; l < lanes; ++l) start(l);
+    for (int l = 0; l < lane_count; ++l) start(l);
     std::size_t n = 0;
     out.resize(1 << 20);
     while (live > 0) {
         V u[4];
         rng.draw(u);
-        const V s = -log_lanes(u[0]);
+        const V s = -lanes::log(u[0]);
         x += dx * s;
         y += dy * s;
         z += dz * s;
         const auto ends = (z < 0.0) || (u[1] >= w0);
-        if (n + lanes > out.size()) out.resize(2 * out.size());
-        for (int l = 0; l < lanes; ++l) {  // every lane writes; the count advances for kept events
+        if (n + lane_count > out.size()) out.resize(2 * out.size());
+        for (int l = 0; l < lane_count; ++l) {  // every lane writes; the count advances for kept events
             out[n] = walk_record<double>(x[l], y[l], z[l], dx[l], dz[l]);
             n += !ends[l];
         }
         const V t = (1.0 - g * g) / (1.0 - g + 2.0 * g * u[2]);
         const V ct = (1.0 + g * g - t * t) / (2.0 * g), st = stdx::sqrt(stdx::max(V(0.0), 1.0 - ct * ct));
-        V sp, cp;
-        sin_cos_lanes(two_pi * u[3], sp, cp);
+        const auto [sp, cp] = lanes::sin_cos(two_pi * u[3]);
         // The frame of secchi::rotate_direction (Duff et al. 2017), branch-free.
         const V sign = stdx::copysign(V(1.0), dz), a = -1.0 / (sign + dz), b = dx * dy * a;
         const V sc = st * cp, ss = st * sp;
@@ -280,7 +239,7 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
         dy = ny * norm;
         dz = nz * norm;
         if (stdx::any_of(ends))
-            for (int l = 0; l < lanes; ++l)
+            for (int l = 0; l < lane_count; ++l)
                 if (ends[l] && alive[l]) {
                     --live;
                     start(l);
@@ -291,11 +250,13 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
 }
 #endif
 
-/// secchi's tracer on the problem of secchi_bench's events_per_s_per_core_hg; its records'
-/// mean depth (the same walk's check) goes to `mean_depth`.
+/// A secchi tracer (PhotonTracer or LaneTracer) on the problem of secchi_bench's
+/// events_per_s_per_core_hg; its records' mean depth (the same walk's check) goes to `mean_depth`.
+template <template <class, class> class Tracer>
 std::size_t secchi_tracer(std::uint64_t photons, double& mean_depth) {
     const auto records =
-        trace_slab<CompactRecord>(HenyeyGreensteinPhase(g_hg), w0, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records;
+        trace_slab<CompactRecord, Tracer>(HenyeyGreensteinPhase(g_hg), w0, 0.0, 1.0, photons, 1, AbsorptionMode::analog)
+            .records;
     mean_depth = 0;
     for (const auto& r : records) mean_depth += r.z;
     mean_depth /= static_cast<double>(records.size());
@@ -335,30 +296,44 @@ int main(int argc, char** argv) {
             for (const auto& r : records) sum += r.z;
             return sum / static_cast<double>(records.size());
         };
-        double secchi_depth = 0;
+        double photon_tracer_depth = 0, lane_tracer_depth = 0;
         std::vector<Variant> variants{
             {"secchi PhotonTracer (HG, slab, detectors, CompactRecord)",
-             [&](std::uint64_t n) { return secchi_tracer(n, secchi_depth); }, [&] { return secchi_depth; }},
+             [&](std::uint64_t n) { return secchi_tracer<PhotonTracer>(n, photon_tracer_depth); },
+             [&] { return photon_tracer_depth; }},
+#if SECCHI_HAS_LANES
+            {"secchi LaneTracer (" + std::to_string(lanes::lane_width) + " double lanes; the same problem)",
+             [&](std::uint64_t n) { return secchi_tracer<LaneTracer>(n, lane_tracer_depth); },
+             [&] { return lane_tracer_depth; }},
+#endif
             {"bare walk, scalar double, xoshiro256+", walk(scalar_walk_xoshiro<double>), walk_depth},
             {"bare walk, scalar double, Philox per photon", walk(scalar_walk_philox), walk_depth},
             {"bare walk, scalar float, xoshiro256+", walk(scalar_walk_xoshiro<float>), walk_depth},
         };
 #ifdef SECCHI_WALK_LANES
-        const std::string width = std::to_string(lanes) + " double lanes";
+        const std::string width = std::to_string(lane_count) + " double lanes";
         variants.push_back({"bare walk, " + width + ", xoshiro256+ per lane", walk(lanes_walk<XoshiroLanes>), walk_depth});
         variants.push_back({"bare walk, " + width + ", Philox per photon", walk(lanes_walk<PhiloxLanes>), walk_depth});
 #endif
-        out("| variant | events | mean event depth | events/s per core, median [min-max] | secchi / variant |");
-        out("|---|---|---|---|---|");
-        double secchi_rate = 0;
+        out("| variant | events | mean event depth | events/s per core, median [min-max] | PhotonTracer / variant | "
+            "LaneTracer / variant |");
+        out("|---|---|---|---|---|---|");
+        struct Row {
+            std::size_t events;
+            Timing t;
+            double mean_depth;
+        };
+        std::vector<Row> rows;  // PhotonTracer's first, then LaneTracer's (where built)
         for (const auto& v : variants) {
             std::size_t events = 0;
             const Timing t = time_runs(repeats, [&] { events = v.run(photons); });
-            const double rate = static_cast<double>(events) / t.median;
-            if (secchi_rate == 0) secchi_rate = rate;
-            out("| " + v.name + " | " + std::to_string(events) + " | " + fmt("%.4f", v.mean_depth()) + " | " + rate_cell(t, static_cast<double>(events)) + " | " +
-                fmt("%.2f", secchi_rate / rate) + " |");
+            rows.push_back({events, t, v.mean_depth()});
         }
+        auto rate = [&](std::size_t i) { return static_cast<double>(rows[i].events) / rows[i].t.median; };
+        for (std::size_t i = 0; i < rows.size(); ++i)
+            out("| " + variants[i].name + " | " + std::to_string(rows[i].events) + " | " + fmt("%.4f", rows[i].mean_depth) +
+                " | " + rate_cell(rows[i].t, static_cast<double>(rows[i].events)) + " | " + fmt("%.2f", rate(0) / rate(i)) +
+                " | " + (SECCHI_HAS_LANES ? fmt("%.2f", rate(1) / rate(i)) : std::string("-")) + " |");
         out("");
         out(std::to_string(photons) + " photons per run, median of " + std::to_string(repeats) +
             " runs, 1 thread. HG g = 0.9, w0 = 0.9; see bench/walk_bench.cpp for the walks. The events and their mean "

@@ -10,6 +10,7 @@
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
+#include "secchi/transport/lane_tracer.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/stratified_water.hpp"
@@ -57,6 +58,9 @@ struct PlaneParallelConfig {
     double section_width = 1.0;    ///< m, periodic horizontal section
     double escape_margin = 20.0;   ///< attenuation lengths below the deepest ray end where photons stop (deep water)
     bool keep_map = false;         ///< return the stored records (for images)
+    /// Trace the first pass with LaneTracer (photons in SIMD lanes; homogeneous water without
+    /// depth importance): the same estimates, faster where the target has wide vectors.
+    bool lanes = false;
 };
 
 struct DepthResult {
@@ -82,6 +86,19 @@ struct PlaneParallelResult {
 namespace detail {
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The first pass by PhotonTracer, or by LaneTracer when cfg.lanes asks for it.
+template <PhotonRecord Record, Medium M>
+TransportResult<Record> first_pass(const M& medium, const Slab& slab, const PlaneParallelConfig& cfg) {
+    const FlatSurface surface(cfg.water_index);
+    const CollimatedSun sun(cfg.sun_zenith_deg);
+#if SECCHI_HAS_LANES
+    if constexpr (depth_independent<M>)
+        if (cfg.lanes) return LaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+#endif
+    require(!cfg.lanes, "lanes", "on", "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
+    return PhotonTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
 }
 
 /// Lu at every depth from a built store with the store's natural collection volume.
@@ -126,9 +143,7 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
     const double ray_end = deepest + cfg.ray_length;
     const double escape = ray_end + cfg.escape_margin / medium.coefficient(Coefficient::attenuation, ray_end);
     const Slab slab(cfg.section_width, cfg.bottom, escape);
-    const PhotonTracer<M, Record> tracer(medium, slab, FlatSurface(cfg.water_index), CollimatedSun(cfg.sun_zenith_deg),
-                                         cfg.transport);
-    auto tr = tracer.run();
+    auto tr = detail::first_pass<Record>(medium, slab, cfg);
 
     PlaneParallelResult out;
     out.photons_traced = tr.photons;
