@@ -30,6 +30,7 @@ using namespace secchi;
 
 constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all [--photons N] --store kdtree|voi --seed S
                  --threads T --json FILE [--exr FILE] [--quick] [--material FILE] [--profile-csv FILE]
+                 [--tracer photon|lanes]
 Runs Mobley et al. 1993 problems 1, 2 and 3 (sun at 60 deg, flat surface n = 1.34, black sky,
 infinitely deep water; problems 1 and 2 with c = 1 /m, problem 3 stratified at 500 nm) and
 scores them against M93 Table 5. Problem 3's medium is composed at compile time
@@ -43,6 +44,8 @@ photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 --petzold petzold|petzold-linear|petzold-linear-flat chooses the particle phase function of
 problems 2a, 2b and 3 (default petzold: M93 Table 2, trapezoidal convention, power law below
 0.12589 deg, the canonical definition; the others are for investigation).
+--tracer photon|lanes (default photon): lanes traces problems 1 and 2 with LaneTracer (photons
+in SIMD lanes); problem 3's stratified water is always traced by PhotonTracer.
 )";
 
 /// A problem and the default photon budget that meets the scoring bar.
@@ -135,6 +138,8 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
         t.layer_thickness = 0.2;
     }
     cfg.store = parse_store(cl.required_text("store"));
+    // LaneTracer for the homogeneous problems; problem 3's stratified water is PhotonTracer's.
+    if (p.id != "3") cfg.tracer = parse_tracer(cl.text("tracer", "photon"));
     cfg.keep_map = p.id == "2a";
     return cfg;
 }
@@ -260,7 +265,7 @@ int main(int argc, char** argv) {
     return run_program(argc, argv, "canonical", usage, [&] {
         const CommandLine cl(argc, argv,
                              {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material",
-                              "profile-csv", "importance-cosine"},
+                              "profile-csv", "importance-cosine", "tracer"},
                              {"quick"});
         const std::string which = cl.required_text("problem");
         if (which != "all" && std::none_of(problems.begin(), problems.end(), [&](auto& p) { return p.id == which; }))

@@ -85,9 +85,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     t.batches = static_cast<unsigned>(cl.count("batches", 32));
     t.absorption = secchi::parse_absorption(cl.text("absorption", "continuous"));
     cfg.store = secchi::parse_store(cl.text("store", "voi"));
-    const std::string tracer = cl.text("tracer", "photon");
-    if (tracer != "photon" && tracer != "lanes") secchi::reject("--tracer", tracer, "must be photon or lanes");
-    cfg.lanes = tracer == "lanes";
+    cfg.tracer = secchi::parse_tracer(cl.text("tracer", "photon"));
     cfg.radius = cl.number("radius", 0.05);
     cfg.steps = static_cast<unsigned>(cl.count("steps", 64));
     cfg.omega = cl.number("omega", 0.005);

@@ -42,6 +42,17 @@ inline StoreKind parse_store(const std::string& s) {
     reject("store", s, "must be kdtree, voi, nanoflann or brute-force");
 }
 
+/// Which first pass traces the photons: PhotonTracer, or LaneTracer (photons in SIMD lanes;
+/// homogeneous water without depth importance; the same estimates, faster where the target
+/// has wide vectors).
+enum class TracerKind { photon, lanes };
+
+inline TracerKind parse_tracer(const std::string& s) {
+    if (s == "photon") return TracerKind::photon;
+    if (s == "lanes") return TracerKind::lanes;
+    reject("tracer", s, "must be photon or lanes");
+}
+
 struct PlaneParallelConfig {
     double attenuation = 1.0;      ///< c (1/m); depths are in metres, so tau = c z
     double albedo = 0.9;           ///< w0 = b / c
@@ -58,9 +69,7 @@ struct PlaneParallelConfig {
     double section_width = 1.0;    ///< m, periodic horizontal section
     double escape_margin = 20.0;   ///< attenuation lengths below the deepest ray end where photons stop (deep water)
     bool keep_map = false;         ///< return the stored records (for images)
-    /// Trace the first pass with LaneTracer (photons in SIMD lanes; homogeneous water without
-    /// depth importance): the same estimates, faster where the target has wide vectors.
-    bool lanes = false;
+    TracerKind tracer = TracerKind::photon;
 };
 
 struct DepthResult {
@@ -88,16 +97,17 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// The first pass by PhotonTracer, or by LaneTracer when cfg.lanes asks for it.
+/// The first pass by the tracer cfg.tracer names.
 template <PhotonRecord Record, Medium M>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const PlaneParallelConfig& cfg) {
     const FlatSurface surface(cfg.water_index);
     const CollimatedSun sun(cfg.sun_zenith_deg);
 #if SECCHI_HAS_LANES
     if constexpr (depth_independent<M>)
-        if (cfg.lanes) return LaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+        if (cfg.tracer == TracerKind::lanes) return LaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
 #endif
-    require(!cfg.lanes, "lanes", "on", "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
+    require(cfg.tracer == TracerKind::photon, "tracer", "lanes",
+            "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
     return PhotonTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
 }
 
