@@ -151,6 +151,32 @@ TEST_CASE("may_tally is false only for flights that record() leaves untallied") 
     CHECK(skipped > 100);  // the test saw flights it may skip
 }
 
+TEST_CASE("record_lanes tallies what record() tallies, lane by lane") {
+    // Detectors at the surface, in the water and on a bottom plane; flights up, down, level,
+    // and parked lanes that must not count.
+    const IrradianceLayers layers({0.0, 1.0, 2.5, 6.0}, 0.02, 6.0);
+    const auto u = uniforms(5 * 2048, 5);
+    double worst = 0;
+    for (std::size_t i = 0; i + 5 * lane_width <= u.size(); i += 5 * lane_width) {
+        auto at = [&](int k, int l) { return u[i + k * lane_width + l]; };
+        const Reals z0 = lanes_of([&](int l) { return 7.0 * at(0, l) - 0.5 * (l == 0); });
+        const Reals uz = lanes_of([&](int l) { return l == 1 ? 0.0 : 2.0 * at(1, l) - 1.0; });
+        const Reals s = lanes_of([&](int l) { return 3.0 * at(2, l); });
+        const Reals w = lanes_of([&](int l) { return at(3, l); });
+        const Reals z1 = z0 + uz * s;
+        const auto active = lanes_of([&](int l) { return at(4, l); }) < 0.9;
+        std::vector<std::array<Reals, 4>> lane_tally(layers.size(), {Reals(0.0), Reals(0.0), Reals(0.0), Reals(0.0)});
+        layers.record_lanes(z0, z1, uz, s, w, active, lane_tally.data());
+        for (int l = 0; l < lane_width; ++l) {
+            std::vector<IrradianceTally> ref(layers.size(), IrradianceTally{});
+            if (active[l]) layers.record(Flight{z0[l], z1[l], uz[l], s[l], w[l]}, NoAbsorption{}, ref.data());
+            for (std::size_t d = 0; d < layers.size(); ++d)
+                for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(lane_tally[d][k][l] - ref[d][k]));
+        }
+    }
+    CHECK(worst == 0.0);  // the same operations on the same numbers
+}
+
 namespace {
 template <template <class, class> class Tracer, class Phase>
 TransportResult<CompactRecord> trace(const Phase& phase, TransportSettings s, Bottom bottom) {
