@@ -6,6 +6,7 @@
 #include "secchi/map/nanoflann_store.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -453,6 +454,46 @@ TEST_CASE("VOI octree: bulk-accepted subtrees report the oracle's records in rec
         }
         INFO("leaf " << leaf);
         REQUIRE(bulk > 0);  // the bulk path was exercised
+    }
+}
+
+TEMPLATE_TEST_CASE("VOI octree along reports in_cylinder's t and distance2 exactly, in record order", "[stores][octree]",
+                   FullRecord, CompactRecord) {
+    // The oracle: in_cylinder over records() in index order. The leaf scan computes t and
+    // distance2 in vectorised loops over chunks padded to whole vectors (or one record at a
+    // time for short chunks), bulk ranges in scalar code: every hit must carry in_cylinder's
+    // values bit for bit, in this order.
+    // 5037 = 78 * 64 + 45 records: with leaf size 6000, one leaf whose last chunk (45
+    // records, vectorised) ends at the last record, where the padding must stop short.
+    const auto records = make_records<TestType>(Layout::uniform, 5037, 111);
+    for (const std::size_t leaf : {1u, 5u, 43u, 128u, 6000u}) {
+        const VoiOctreeStore<TestType> store(records, leaf);
+        auto queries = make_queries(Layout::uniform, 60, 112);
+        queries.push_back({vec3(0.5), Ray{vec3(0.5, 0.5, -1.0), vec3(0, 0, 1), 5.0}, 0.3});  // bulk and scans
+        queries.push_back({vec3(0.5), Ray{vec3(-1.0, -1.0, -1.0), glm::normalize(vec3(1, 1, 2)), 6.0}, 2.0});
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+            const Query& q = queries[i];
+            CollectAll want;
+            for (std::uint32_t k = 0; k < store.size(); ++k) {
+                Hit hit{k, 0.0, 0.0};
+                if (in_cylinder(q.ray, store.records()[k].position(), q.r * q.r, hit)) want.hits.push_back(hit);
+            }
+            CollectAll got;
+            store.along(q.ray, Radius(q.r), got);
+            INFO("leaf " << leaf << " query " << i << " r " << q.r);
+            REQUIRE(got.hits.size() == want.hits.size());
+            for (std::size_t k = 0; k < got.hits.size(); ++k) {
+                REQUIRE(got.hits[k].index == want.hits[k].index);
+#if defined(__FP_FAST_FMA)  // the compiler may fuse a * b + c differently in the two codes
+                REQUIRE(close(got.hits[k].t, want.hits[k].t));
+                REQUIRE(close(got.hits[k].distance2, want.hits[k].distance2));
+#else
+                REQUIRE(std::bit_cast<std::uint64_t>(got.hits[k].t) == std::bit_cast<std::uint64_t>(want.hits[k].t));
+                REQUIRE(std::bit_cast<std::uint64_t>(got.hits[k].distance2) ==
+                        std::bit_cast<std::uint64_t>(want.hits[k].distance2));
+#endif
+            }
+        }
     }
 }
 
