@@ -137,7 +137,7 @@ std::size_t scalar_walk_philox(std::uint64_t photons, std::vector<WalkRecord>& o
 }
 
 #ifdef SECCHI_WALK_LANES
-// The lanes, and their log and sin_cos, are the library's (core/lanes.hpp).
+// The lanes, their log (core/lanes.hpp) and sin_cos (core/math.hpp) are the library's.
 namespace stdx = std::experimental;
 using V = lanes::Reals;
 using U = lanes::Words;
@@ -227,7 +227,7 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
         }
         const V t = (1.0 - g * g) / (1.0 - g + 2.0 * g * u[2]);
         const V ct = (1.0 + g * g - t * t) / (2.0 * g), st = stdx::sqrt(stdx::max(V(0.0), 1.0 - ct * ct));
-        const auto [sp, cp] = lanes::sin_cos(two_pi * u[3]);
+        const auto [sp, cp] = sin_cos(V(two_pi * u[3]));
         // The frame of secchi::rotate_direction (Duff et al. 2017), branch-free.
         const V sign = stdx::copysign(V(1.0), dz), a = -1.0 / (sign + dz), b = dx * dy * a;
         const V sc = st * cp, ss = st * sp;

@@ -1,12 +1,13 @@
 // Photons in lanes (core/lanes.hpp, map/record_lanes.hpp, transport/lane_tracer.hpp): the
 // vector kernels against their scalar counterparts, and LaneTracer against PhotonTracer on
-// the same problems. Statistical checks: within 4 combined standard errors (fixed in advance,
-// as in test_transport.cpp).
+// the same problems (PhotonTracer's estimate first, LaneTracer's second). Statistical checks:
+// within 4 combined standard errors (fixed in advance; transport_checks.hpp).
 #include <catch2/catch.hpp>
 #include "secchi/core/stats.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/transport/lane_tracer.hpp"
+#include "transport_checks.hpp"
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -45,7 +46,7 @@ vec3 direction_of(double u1, double u2) {
 }
 }  // namespace
 
-TEST_CASE("Lane log, sin_cos and rotation compute what the scalar kernels compute") {
+TEST_CASE("log, sin_cos and the rotation in lanes compute what they compute for doubles") {
     const auto u = uniforms(4096, 1);
     std::vector<double> x = u;  // the free path's arguments, and the extremes of (0, 1)
     x.insert(x.end(), {uniform_from_bits(0), uniform_from_bits(0xffffffffu), 0.5, 1.0, 2.0, 1e300, 1e-300});
@@ -64,8 +65,8 @@ TEST_CASE("Lane log, sin_cos and rotation compute what the scalar kernels comput
         const Reals cos_psi = lanes_of([&](int l) { return 2.0 * u[i + lane_width + l] - 1.0; });
         std::vector<vec3> dirs(lane_width);
         for (int l = 0; l < lane_width; ++l) dirs[l] = direction_of(u[i + 2 * lane_width + l], u[i + l]);
-        const lanes::SinCos sc = lanes::sin_cos(phi);
-        const lanes::Vec3 out = lanes::rotate_direction(
+        const SinCosOf<Reals> sc = sin_cos(phi);
+        const lanes::Vec3 out = rotate_direction(
             {lanes_of([&](int l) { return dirs[l].x; }), lanes_of([&](int l) { return dirs[l].y; }),
              lanes_of([&](int l) { return dirs[l].z; })},
             cos_psi, phi);
@@ -77,7 +78,7 @@ TEST_CASE("Lane log, sin_cos and rotation compute what the scalar kernels comput
                                        std::abs(out.z[l] - r.z)});
         }
     }
-    INFO("lanes::sin_cos: worst " << worst_sin_cos << " ulp; rotation: worst " << worst_rotation);
+    INFO("sin_cos in lanes: worst " << worst_sin_cos << " ulp; rotation: worst " << worst_rotation);
     CHECK(worst_sin_cos <= 1.0);   // the same operations (a fused multiply-add may round once less)
     CHECK(worst_rotation <= 1e-15);
 }
@@ -197,10 +198,6 @@ Estimate events_per_photon(const TransportResult<CompactRecord>& r) {
     return batch_estimate(per_batch);
 }
 
-void check_agree(const Estimate& x, const Estimate& y, const char* what) {
-    INFO(what << ": PhotonTracer " << x.value << " +- " << x.se << ", LaneTracer " << y.value << " +- " << y.se);
-    CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
-}
 }  // namespace
 
 TEST_CASE("LaneTracer and PhotonTracer agree within their standard errors") {
@@ -222,9 +219,9 @@ TEST_CASE("LaneTracer and PhotonTracer agree within their standard errors") {
         const auto b = trace<LaneTracer>(HenyeyGreensteinPhase(0.85), s, bottom);
         INFO("absorption mode " << static_cast<int>(c.mode) << ", max order " << c.max_order);
         for (std::size_t i = 0; i < s.depths.size(); ++i)
-            for (int k = 0; k < 4; ++k) check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance");
-        check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
-        check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
+            for (int k = 0; k < 4; ++k) testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance");
+        testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
+        testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
         CHECK(b.ledger.incident == 1.0);
         CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : 5e-3));
         if (c.max_order) CHECK(b.ledger.truncated > 0.01);
@@ -236,8 +233,8 @@ TEST_CASE("LaneTracer and PhotonTracer agree within their standard errors") {
     const auto a = trace<PhotonTracer>(petzold_m93(), s, Bottom{});
     const auto b = trace<LaneTracer>(petzold_m93(), s, Bottom{});
     for (std::size_t i = 0; i < s.depths.size(); ++i)
-        for (int k = 0; k < 4; ++k) check_agree(a.irradiance[i][k], b.irradiance[i][k], "Petzold irradiance");
-    check_agree(events_per_photon(a), events_per_photon(b), "Petzold stored events per photon");
+        for (int k = 0; k < 4; ++k) testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "Petzold irradiance");
+    testing::check_agree(events_per_photon(a), events_per_photon(b), "Petzold stored events per photon");
 }
 
 TEST_CASE("LaneTracer is bit-identical for 1 and 2 threads") {
@@ -251,15 +248,7 @@ TEST_CASE("LaneTracer is bit-identical for 1 and 2 threads") {
     const auto a = trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
     s.threads = 2;
     const auto b = trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
-    REQUIRE(a.records.size() == b.records.size());
-    REQUIRE(std::memcmp(a.records.data(), b.records.data(), a.records.size() * sizeof(CompactRecord)) == 0);
-    for (std::size_t i = 0; i < s.depths.size(); ++i)
-        for (int k = 0; k < 4; ++k) {
-            REQUIRE(a.irradiance[i][k].value == b.irradiance[i][k].value);
-            REQUIRE(a.irradiance[i][k].se == b.irradiance[i][k].se);
-        }
-    REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
-    REQUIRE(a.bottom_ed.value == b.bottom_ed.value);
+    testing::require_identical(a, b);
 }
 
 TEST_CASE("LaneTracer rejects depth importance by name") {

@@ -5,6 +5,7 @@
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/transport/tracer.hpp"
+#include "transport_checks.hpp"
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -88,13 +89,10 @@ TEST_CASE("Implicit capture, continuous absorption and analog transport agree wi
         s.absorption = mode;
         const auto b = run(HenyeyGreensteinPhase(0.7), 0.5, s, Bottom::lambertian_at(6.0, 0.4));
         for (std::size_t i = 0; i < s.depths.size(); ++i)
-            for (int k = 0; k < 4; ++k) {
-                const auto& x = a.irradiance[i][k];
-                const auto& y = b.irradiance[i][k];
-                INFO("mode " << static_cast<int>(mode) << " depth " << s.depths[i] << " quantity " << k << ": "
-                             << x.value << "+-" << x.se << " vs " << y.value << "+-" << y.se);
-                CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
-            }
+            for (int k = 0; k < 4; ++k)
+                testing::check_agree(a.irradiance[i][k], b.irradiance[i][k],
+                                     "mode " + std::to_string(static_cast<int>(mode)) + " depth " +
+                                         std::to_string(s.depths[i]) + " quantity " + std::to_string(k));
         CHECK(std::abs(b.ledger.imbalance()) < 5e-3);
     }
 }
@@ -123,14 +121,7 @@ TEST_CASE("Results are bit-identical for 1 and 2 threads") {
     const auto a = run(HenyeyGreensteinPhase(0.9), 0.9, s);
     s.threads = 2;
     const auto b = run(HenyeyGreensteinPhase(0.9), 0.9, s);
-    REQUIRE(a.records.size() == b.records.size());
-    REQUIRE(std::memcmp(a.records.data(), b.records.data(), a.records.size() * sizeof(CompactRecord)) == 0);
-    for (std::size_t i = 0; i < s.depths.size(); ++i)
-        for (int k = 0; k < 4; ++k) {
-            REQUIRE(a.irradiance[i][k].value == b.irradiance[i][k].value);
-            REQUIRE(a.irradiance[i][k].se == b.irradiance[i][k].se);
-        }
-    REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
+    testing::require_identical(a, b);
 }
 
 namespace {

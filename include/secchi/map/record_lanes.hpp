@@ -25,7 +25,7 @@ namespace detail {
 /// encode_theta per lane (the byte as a double). The guess is within 0.006 bin of the exact
 /// angle, so it is the answer unless it lies within that of a bin boundary: the two table
 /// lookups of the correction are made only when some lane is that close (one step in ten).
-SECCHI_LANE_KERNEL lanes::Reals encode_theta(const lanes::Reals& dz) {
+SECCHI_KERNEL lanes::Reals encode_theta(const lanes::Reals& dz) {
     using lanes::Reals, lanes::stdx::floor;
     const auto& t = direction_encode_tables();
     const Reals abs_dz = lanes::stdx::abs(dz);
@@ -43,7 +43,7 @@ SECCHI_LANE_KERNEL lanes::Reals encode_theta(const lanes::Reals& dz) {
 
 /// atan r for r in [0, 1], to 3e-9 rad: atan r = pi/4 + atan((r - 1)/(r + 1)) above
 /// tan(pi/8), which leaves |x| <= tan(pi/8) for the Taylor series to x^17.
-SECCHI_LANE_KERNEL lanes::Reals atan_unit(const lanes::Reals& r) {
+SECCHI_KERNEL lanes::Reals atan_unit(const lanes::Reals& r) {
     using lanes::Reals;
     const auto reduced = r > 0.41421356237309503;
     const Reals x = select(reduced, (r - 1.0) / (r + 1.0), r), x2 = x * x;
@@ -57,7 +57,7 @@ SECCHI_LANE_KERNEL lanes::Reals atan_unit(const lanes::Reals& r) {
 /// (within 1e-7 bin) instead of encode_phi's coarse one (0.07 bin): both land in the exact
 /// bin away from its boundaries, and near one (rarely: then for all lanes) the same
 /// cross-product test with the boundary decides, as in encode_phi.
-SECCHI_LANE_KERNEL lanes::Reals encode_phi(const lanes::Reals& dx, const lanes::Reals& dy) {
+SECCHI_KERNEL lanes::Reals encode_phi(const lanes::Reals& dx, const lanes::Reals& dy) {
     using lanes::Reals, lanes::stdx::floor;
     const auto& t = direction_encode_tables();
     const auto pole = dx == 0.0 && dy == 0.0;

@@ -196,7 +196,7 @@ private:
         absorbed_weight.copy_to(L.absorbed, aligned);
         const Mask scatters = interacts && !absorbed;
         const auto [cos_psi, phi] = scattering_angles(u, Reals(L.z, aligned));
-        const lanes::Vec3 after = lanes::rotate_direction(before, cos_psi, phi);
+        const lanes::Vec3 after = rotate_direction(before, cos_psi, phi);
 
         for (unsigned b = lanes::bits_of(at_boundary); b; b &= b - 1) boundary(L, __builtin_ctz(b), z_free, out);
         for (unsigned b = lanes::bits_of(truncated); b; b &= b - 1) {

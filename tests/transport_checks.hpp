@@ -1,0 +1,32 @@
+#pragma once
+// Checks shared by the first-pass tests (test_transport.cpp, test_lane_tracer.cpp): two
+// estimates agreeing within 4 combined standard errors (fixed in advance), and two runs with
+// bit-identical output (records, every irradiance and its SE, ledger, bottom Ed).
+#include <catch2/catch.hpp>
+
+#include "secchi/transport/tracer.hpp"
+#include <cmath>
+#include <cstring>
+
+namespace secchi::testing {
+
+inline void check_agree(const Estimate& x, const Estimate& y, const std::string& what) {
+    INFO(what << ": " << x.value << " +- " << x.se << " vs " << y.value << " +- " << y.se);
+    CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
+}
+
+template <class Record>
+void require_identical(const TransportResult<Record>& a, const TransportResult<Record>& b) {
+    REQUIRE(a.records.size() == b.records.size());
+    REQUIRE(std::memcmp(a.records.data(), b.records.data(), a.records.size() * sizeof(Record)) == 0);
+    REQUIRE(a.irradiance.size() == b.irradiance.size());
+    for (std::size_t i = 0; i < a.irradiance.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            REQUIRE(a.irradiance[i][k].value == b.irradiance[i][k].value);
+            REQUIRE(a.irradiance[i][k].se == b.irradiance[i][k].se);
+        }
+    REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
+    REQUIRE(a.bottom_ed.value == b.bottom_ed.value);
+}
+
+}  // namespace secchi::testing
