@@ -28,6 +28,7 @@
 
 #if SECCHI_HAS_LANES
 #include "secchi/core/math.hpp"
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 
@@ -46,6 +47,12 @@ SECCHI_KERNEL unsigned bits_of(const Mask& m) {
     unsigned b = 0;
     for (int l = 0; l < lane_width; ++l) b |= static_cast<unsigned>(m[l]) << l;
     return b;
+}
+
+/// Calls f(l) for every lane l set in m, in lane order.
+template <class F>
+SECCHI_KERNEL void for_each(const Mask& m, F&& f) {
+    for (unsigned b = bits_of(m); b != 0; b &= b - 1) f(std::countr_zero(b));
 }
 
 /// A table's entries at per-lane indices (integers held as doubles). Written as a plain loop

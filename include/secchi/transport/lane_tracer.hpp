@@ -180,11 +180,11 @@ private:
         // 1 - w0, or the fraction 1 - w0 of its weight in implicit capture), storage, and a
         // new direction from the phase function.
         const Reals order(L.order, aligned);
-        Mask truncated = inside && (z != z);  // none
+        Mask truncated(false);
         if (this->s_.max_order != 0) truncated = inside && order >= double(this->s_.max_order);
         const Mask interacts = inside && !truncated;
         const Reals u_absorb_or_store(u.absorb_or_store, aligned);
-        Mask absorbed = interacts && (z != z);  // none
+        Mask absorbed(false);
         Reals w_after = w, absorbed_weight(L.absorbed, aligned);
         if (this->s_.absorption == AbsorptionMode::analog) {
             absorbed = interacts && u_absorb_or_store >= this->w0_;
@@ -198,22 +198,21 @@ private:
         const auto [cos_psi, phi] = scattering_angles(u, Reals(L.z, aligned));
         const lanes::Vec3 after = rotate_direction(before, cos_psi, phi);
 
-        for (unsigned b = lanes::bits_of(at_boundary); b; b &= b - 1) boundary(L, __builtin_ctz(b), z_free, out);
-        for (unsigned b = lanes::bits_of(truncated); b; b &= b - 1) {
-            const int l = __builtin_ctz(b);
+        lanes::for_each(at_boundary, [&](int l) { boundary(L, l, z_free, out); });
+        lanes::for_each(truncated, [&](int l) {
             out.ledger.truncated += L.w[l];
             L.alive[l] = false;
-        }
-        for (unsigned b = lanes::bits_of(absorbed); b; b &= b - 1) L.alive[__builtin_ctz(b)] = false;
+        });
+        lanes::for_each(absorbed, [&](int l) { L.alive[l] = false; });
         store_events(L, scatters, w_after, u_absorb_or_store, out);
         scatter(L, scatters, w_after, after);
         if (this->s_.roulette_weight != 0.0)
-            for (unsigned b = lanes::bits_of(scatters && w_after < this->s_.roulette_weight); b; b &= b - 1)
-                per_photon(L, __builtin_ctz(b), [&](PhotonState& p, PhotonRng& rng) { return this->roulette(p, rng, out.ledger); });
-        for (unsigned b = lanes::bits_of(alive); b; b &= b - 1) {
-            const int l = __builtin_ctz(b);
+            lanes::for_each(scatters && w_after < this->s_.roulette_weight, [&](int l) {
+                per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) { return this->roulette(p, rng, out.ledger); });
+            });
+        lanes::for_each(alive, [&](int l) {  // lanes whose photon ended take the block's next one
             if (!L.alive[l]) start(L, l, next, end, out.ledger);
-        }
+        });
     }
 
     /// PhotonTracer::fly per lane: the detectors (in the vectors, or lane by lane when the
@@ -226,21 +225,19 @@ private:
         } else {
             using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
             const Mask tallies = alive && this->layers_.may_tally(min(z, z1), max(z, z1), abs(z) + abs(z1));
-            for (unsigned b = lanes::bits_of(tallies); b; b &= b - 1) {
-                const int l = __builtin_ctz(b);
+            lanes::for_each(tallies, [&](int l) {
                 this->layers_.record(Flight{L.z[l], z1[l], L.dz[l], t[l], L.w[l]}, this->medium_, out.tally.data());
-            }
+            });
         }
         (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
         (Reals(L.y, aligned) + Reals(L.dy, aligned) * t).copy_to(L.y, aligned);
         z1.copy_to(L.z, aligned);
         if (!this->continuous_) return;
-        for (unsigned b = lanes::bits_of(alive); b; b &= b - 1) {  // w exp(-a t), as PhotonTracer::fly
-            const int l = __builtin_ctz(b);
+        lanes::for_each(alive, [&](int l) {  // w exp(-a t), as PhotonTracer::fly
             const double w = L.w[l] * std::exp(-this->medium_.optical_path(Coefficient::absorption, z[l], L.dz[l], t[l]));
             L.absorbed[l] += L.w[l] - w;
             L.w[l] = w;
-        }
+        });
     }
 
     /// A lane's photon at the surface (Fresnel reflection or escape) or at the floor (the
@@ -261,14 +258,13 @@ private:
                       detail::BlockResult<Record>& out) const {
         Mask keep = scatters && Mask(L.stores, aligned);
         if (this->s_.absorption != AbsorptionMode::analog) keep = keep && u < w;
-        const unsigned kept = lanes::bits_of(keep);
-        if (kept == 0) return;
+        if (none_of(keep)) return;
         const lanes::Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
                                    Reals(L.z, aligned)};
         const lanes::Vec3 direction{Reals(L.dx, aligned), Reals(L.dy, aligned), Reals(L.dz, aligned)};
         Record records[width];
         LaneRecords<Record>::make(position, direction, band_index{0}, L.batch, records);
-        for (unsigned b = kept; b; b &= b - 1) out.records.push_back(records[__builtin_ctz(b)]);
+        lanes::for_each(keep, [&](int l) { out.records.push_back(records[l]); });
     }
 
     /// The scattered lanes take their new direction and weight, one order higher.
