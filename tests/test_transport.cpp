@@ -7,7 +7,6 @@
 #include "secchi/transport/tracer.hpp"
 #include "transport_checks.hpp"
 #include <cmath>
-#include <cstring>
 #include <vector>
 
 using namespace secchi;
