@@ -212,6 +212,32 @@ TEST_CASE("Record chunks keep every record, in order") {
     CHECK(moved.size() == 0);
 }
 
+TEST_CASE("The map is built in block order whatever order the blocks finish in, in reused chunks") {
+    const auto blocks = detail::make_blocks(1000, 2, 100);  // 10 blocks; photons 0-599 are map photons
+    REQUIRE(blocks.size() == 10);
+    detail::ChunkPool<FullRecord> pool;
+    const std::size_t per_chunk = detail::ChunkPool<FullRecord>::per_chunk;
+    std::vector<detail::BlockResult<FullRecord>> results;
+    for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(3, &pool);
+    std::vector<double> expected;  // block i stores 300 (i + 1) records if its photons are map photons
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+        for (std::size_t j = 0; blocks[i].end <= 600 && j < 300 * (i + 1); ++j) expected.push_back(1000.0 * i + j);
+    detail::OrderedRecords<FullRecord> map(blocks, 600);
+    for (std::size_t i : {3, 1, 0, 2, 9, 5, 4, 8, 6, 7}) {
+        for (std::size_t j = 0; blocks[i].end <= 600 && j < 300 * (i + 1); ++j)
+            results[i].records.push_back(FullRecord::make({1000.0 * i + j, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0, 0));
+        map.finished(i, results);
+        if (i == 1) CHECK(results[3].records.size() == 1200);  // waits for blocks 0-2
+        if (i == 2) CHECK(results[3].records.size() == 0);    // appended with them
+    }
+    const std::vector<FullRecord> records = map.take();
+    REQUIRE(records.size() == expected.size());
+    for (std::size_t k = 0; k < records.size(); ++k) REQUIRE(records[k].position().x == expected[k]);
+    CHECK(records.size() > 2 * per_chunk);  // the blocks' chunks ...
+    CHECK(pool.idle() >= 2);                // ... went back to the pool
+    CHECK(pool.take().capacity() == per_chunk);
+}
+
 TEST_CASE("Homogeneous water samples the phase function's direction without its density") {
     const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, HenyeyGreensteinPhase(0.8));
     static_assert(depth_independent<HomogeneousWater<HenyeyGreensteinPhase>>);

@@ -52,7 +52,8 @@ public:
               medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0)) {}
 
     TransportResult<Record> run() const {
-        return this->run_blocks([this](const detail::Block& block) { return trace_block(block); });
+        return this->run_blocks(
+            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); });
     }
 
 private:
@@ -80,9 +81,7 @@ private:
         alignas(64) double path[width], absorb_or_store[width], psi[width], phi[width];
     };
 
-    detail::BlockResult<Record> trace_block(const detail::Block& block) const {
-        detail::BlockResult<Record> out;
-        out.tally.assign(this->layers_.size(), IrradianceTally{});
+    void trace_block(const detail::Block& block, detail::BlockResult<Record>& out) const {
         Lanes lanes{};
         lanes.tally.assign(this->layers_.size(), {Reals(0.0), Reals(0.0), Reals(0.0), Reals(0.0)});
         std::uint64_t next = block.begin;
@@ -93,7 +92,6 @@ private:
         for (std::size_t i = 0; i < lanes.tally.size(); ++i)
             for (int k = 0; k < 4; ++k)
                 for (int l = 0; l < width; ++l) out.tally[i][k] += lanes.tally[i][k][l];
-        return out;
     }
 
     /// Puts the block's next photon that enters the water into lane l (PhotonTracer::launch),

@@ -15,6 +15,7 @@
 #include "secchi/scene/flat_surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
+#include "secchi/transport/blocks.hpp"
 #include "secchi/transport/irradiance_layers.hpp"
 #include "secchi/transport/ledger.hpp"
 #include "secchi/transport/parallel.hpp"
@@ -38,55 +39,17 @@ struct TransportResult {
 };
 
 namespace detail {
-/// One work unit: photons [begin, end) all of one batch.
-struct Block {
-    std::uint64_t begin, end;
-    unsigned batch;
-};
-
-/// A block's records in chunks of fixed capacity (64 kB): appending never moves stored
-/// records, as one growing vector would (copying each about once more, into fresh pages);
-/// the merge copies each record once into the result.
-template <class Record>
-class RecordChunks {
-public:
-    void push_back(const Record& r) {
-        if (chunks_.empty() || chunks_.back().size() == per_chunk) [[unlikely]]
-            chunks_.emplace_back().reserve(per_chunk);
-        chunks_.back().push_back(r);
-    }
-    [[nodiscard]] std::size_t size() const {
-        std::size_t n = 0;
-        for (const auto& c : chunks_) n += c.size();
-        return n;
-    }
-    /// Appends the records to `out` in order and frees the chunks.
-    void move_to(std::vector<Record>& out) {
-        for (const auto& c : chunks_) out.insert(out.end(), c.begin(), c.end());
-        std::vector<std::vector<Record>>().swap(chunks_);
-    }
-
-private:
-    static constexpr std::size_t per_chunk = std::max<std::size_t>(1, 65536 / sizeof(Record));
-    std::vector<std::vector<Record>> chunks_;
-};
-
+/// What a block's photons produce: tallies, ledger, records (in chunks from the run's pool).
 template <class Record>
 struct BlockResult {
+    BlockResult(std::size_t depths, ChunkPool<Record>* pool) : tally(depths), records(pool) {}
+
     std::vector<IrradianceTally> tally;  // per depth
     double bottom_ed = 0;
     EnergyLedger ledger;
     RecordChunks<Record> records;
 };
 
-inline std::vector<Block> make_blocks(std::uint64_t photons, unsigned batches, std::uint64_t block_size) {
-    std::vector<Block> blocks;
-    for (unsigned b = 0; b < batches; ++b) {
-        const std::uint64_t lo = photons * b / batches, hi = photons * (b + 1) / batches;
-        for (std::uint64_t s = lo; s < hi; s += block_size) blocks.push_back({s, std::min(hi, s + block_size), b});
-    }
-    return blocks;
-}
 }  // namespace detail
 
 template <Medium M, PhotonRecord Record>
@@ -102,18 +65,27 @@ public:
           entry_direction_(surface.transmit_into_water(sun_direction_)) {}
 
     TransportResult<Record> run() const {
-        return run_blocks([this](const detail::Block& block) { return trace_block(block); });
+        return run_blocks(
+            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); });
     }
 
 protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
-    /// Traces every block with `trace_block` (Block -> BlockResult) on the settings' threads
-    /// and merges the results in block order.
+    /// Traces every block with `trace_block(block, result)` on the settings' threads; the
+    /// records go into the map in block order as blocks finish (blocks.hpp), and the tallies
+    /// are merged in block order at the end.
     template <class TraceBlock>
     TransportResult<Record> run_blocks(TraceBlock&& trace_block) const {
         const auto blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
-        std::vector<detail::BlockResult<Record>> results(blocks.size());
-        parallel_for(blocks.size(), s_.threads, [&](std::size_t i) { results[i] = trace_block(blocks[i]); });
-        return merge(blocks, results);
+        detail::ChunkPool<Record> pool;
+        std::vector<detail::BlockResult<Record>> results;
+        results.reserve(blocks.size());
+        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(layers_.size(), &pool);
+        detail::OrderedRecords<Record> map(blocks, s_.map_photons);
+        parallel_for(blocks.size(), s_.threads, [&](std::size_t i) {
+            trace_block(blocks[i], results[i]);
+            map.finished(i, results);
+        });
+        return merge(blocks, results, map.take());
     }
 
     static TransportSettings validated(TransportSettings s) {
@@ -136,12 +108,9 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         std::uint8_t batch;
     };
 
-    detail::BlockResult<Record> trace_block(const detail::Block& block) const {
-        detail::BlockResult<Record> out;
-        out.tally.assign(layers_.size(), IrradianceTally{});
+    void trace_block(const detail::Block& block, detail::BlockResult<Record>& out) const {
         std::vector<PhotonState> pending;  // split-off photons, traced depth first
         for (std::uint64_t i = block.begin; i < block.end; ++i) trace_photon(i, out, pending);
-        return out;
     }
 
     /// Follows photon `index` from the sun until it leaves, is absorbed or is stopped, and
@@ -355,23 +324,21 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     }
 
     TransportResult<Record> merge(const std::vector<detail::Block>& blocks,
-                                  std::vector<detail::BlockResult<Record>>& results) const {
+                                  const std::vector<detail::BlockResult<Record>>& results,
+                                  std::vector<Record> records) const {
         const std::size_t nd = layers_.size();
         std::vector<std::vector<IrradianceTally>> batch_tally(s_.batches, std::vector<IrradianceTally>(nd));
         std::vector<double> batch_bottom(s_.batches, 0.0), batch_photons(s_.batches, 0.0);
         TransportResult<Record> r;
-        std::size_t total_records = 0;
-        for (const auto& res : results) total_records += res.records.size();
-        r.records.reserve(total_records);
+        r.records = std::move(records);
         for (std::size_t i = 0; i < blocks.size(); ++i) {  // fixed order: deterministic sums
             const auto& blk = blocks[i];
-            auto& res = results[i];
+            const auto& res = results[i];
             for (std::size_t d = 0; d < nd; ++d)
                 for (int k = 0; k < 4; ++k) batch_tally[blk.batch][d][k] += res.tally[d][k];
             batch_bottom[blk.batch] += res.bottom_ed;
             batch_photons[blk.batch] += static_cast<double>(blk.end - blk.begin);
             r.ledger += res.ledger;
-            res.records.move_to(r.records);
         }
         const double ed0 = sun_.plane_irradiance();
         std::vector<double> values(s_.batches);

@@ -1,0 +1,151 @@
+#pragma once
+// The first pass's work units and where their records go. Photons are traced in fixed
+// blocks (any thread may take any block); each block writes its records into chunks of fixed
+// size, and the blocks' records are appended to the photon map in block order as soon as
+// every earlier block is done. The map is therefore the same for any thread count, and a
+// block's chunks go back to a pool for the next blocks as soon as its records are copied:
+// the records are written into warm memory, and the map is built while tracing instead of
+// after it (peak memory about one map, not two).
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+namespace secchi::detail {
+
+/// One work unit: photons [begin, end) all of one batch.
+struct Block {
+    std::uint64_t begin, end;
+    unsigned batch;
+};
+
+inline std::vector<Block> make_blocks(std::uint64_t photons, unsigned batches, std::uint64_t block_size) {
+    std::vector<Block> blocks;
+    for (unsigned b = 0; b < batches; ++b) {
+        const std::uint64_t lo = photons * b / batches, hi = photons * (b + 1) / batches;
+        for (std::uint64_t s = lo; s < hi; s += block_size) blocks.push_back({s, std::min(hi, s + block_size), b});
+    }
+    return blocks;
+}
+
+/// Record chunks (64 kB each) handed back once their records are in the map, for the
+/// blocks traced next. Shared by the workers of one run: one lock per chunk taken or given.
+template <class Record>
+class ChunkPool {
+public:
+    static constexpr std::size_t per_chunk = std::max<std::size_t>(1, 65536 / sizeof(Record));
+
+    /// An empty chunk with room for per_chunk records.
+    std::vector<Record> take() {
+        {
+            std::lock_guard lock(mutex_);
+            if (!free_.empty()) {
+                std::vector<Record> chunk = std::move(free_.back());
+                free_.pop_back();
+                return chunk;
+            }
+        }
+        std::vector<Record> chunk;
+        chunk.reserve(per_chunk);
+        return chunk;
+    }
+    void give(std::vector<Record>&& chunk) {
+        chunk.clear();
+        std::lock_guard lock(mutex_);
+        free_.push_back(std::move(chunk));
+    }
+    /// Chunks waiting to be taken again.
+    [[nodiscard]] std::size_t idle() {
+        std::lock_guard lock(mutex_);
+        return free_.size();
+    }
+
+private:
+    std::mutex mutex_;
+    std::vector<std::vector<Record>> free_;
+};
+
+/// A block's records in chunks of fixed capacity: appending never moves stored records, as
+/// one growing vector would (copying each about once more, into fresh pages). Chunks come
+/// from the pool if there is one, else from the heap.
+template <class Record>
+class RecordChunks {
+public:
+    RecordChunks() = default;
+    explicit RecordChunks(ChunkPool<Record>* pool) : pool_(pool) {}
+
+    void push_back(const Record& r) {
+        if (chunks_.empty() || chunks_.back().size() == ChunkPool<Record>::per_chunk) [[unlikely]]
+            chunks_.push_back(new_chunk());
+        chunks_.back().push_back(r);
+    }
+    [[nodiscard]] std::size_t size() const {
+        std::size_t n = 0;
+        for (const auto& c : chunks_) n += c.size();
+        return n;
+    }
+    /// Appends the records to `out` in order and gives the chunks back (to the pool, or frees them).
+    void move_to(std::vector<Record>& out) {
+        for (auto& c : chunks_) {
+            out.insert(out.end(), c.begin(), c.end());
+            if (pool_) pool_->give(std::move(c));
+        }
+        std::vector<std::vector<Record>>().swap(chunks_);
+    }
+
+private:
+    std::vector<Record> new_chunk() {
+        if (pool_) return pool_->take();
+        std::vector<Record> chunk;
+        chunk.reserve(ChunkPool<Record>::per_chunk);
+        return chunk;
+    }
+
+    ChunkPool<Record>* pool_ = nullptr;
+    std::vector<std::vector<Record>> chunks_;
+};
+
+/// The photon map, built in block order while blocks finish in any order: `finished(i)`
+/// (any thread) appends block i's records and every later finished block's that now follows
+/// a complete prefix. The map's capacity is set from the records per map photon of the
+/// blocks appended so far, with 1/8 to spare (untouched, so not resident), so it is rarely
+/// copied to grow.
+template <class Record>
+class OrderedRecords {
+public:
+    OrderedRecords(const std::vector<Block>& blocks, std::uint64_t map_photons)
+        : blocks_(blocks), map_photons_(map_photons), done_(blocks.size(), false) {}
+
+    template <class Results>
+    void finished(std::size_t i, Results& results) {
+        std::lock_guard lock(mutex_);
+        done_[i] = true;
+        for (; next_ < done_.size() && done_[next_]; ++next_) append(blocks_[next_], results[next_].records);
+    }
+
+    /// The map, once every block has finished.
+    std::vector<Record> take() { return std::move(records_); }
+
+private:
+    void append(const Block& b, RecordChunks<Record>& chunks) {
+        const std::size_t needed = records_.size() + chunks.size();
+        map_photons_done_ += std::min(b.end, map_photons_) - std::min(b.begin, map_photons_);
+        if (needed > records_.capacity()) {
+            const double done = static_cast<double>(std::max<std::uint64_t>(map_photons_done_, 1));
+            const double per_photon = static_cast<double>(needed) / done;
+            const auto expected = static_cast<std::size_t>(1.125 * per_photon * static_cast<double>(map_photons_));
+            records_.reserve(std::max(needed, expected));
+        }
+        chunks.move_to(records_);
+    }
+
+    const std::vector<Block>& blocks_;
+    std::uint64_t map_photons_, map_photons_done_ = 0;
+    std::vector<bool> done_;
+    std::size_t next_ = 0;
+    std::vector<Record> records_;
+    std::mutex mutex_;
+};
+
+}  // namespace secchi::detail
