@@ -12,7 +12,8 @@ namespace secchi::bench {
 /// Traced by PhotonTracer, or by another tracer of the same interface (LaneTracer).
 template <class Record, template <class, class> class Tracer = PhotonTracer, class Phase>
 TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_deg, double n_water,
-                                   std::uint64_t photons, unsigned threads, AbsorptionMode mode) {
+                                   std::uint64_t photons, unsigned threads, AbsorptionMode mode,
+                                   std::vector<Record> storage = {}) {
     const auto water = HomogeneousWater<Phase>::from_albedo(1.0, w0, phase);
     TransportSettings s;
     s.photons = s.map_photons = photons;
@@ -20,7 +21,8 @@ TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_
     s.absorption = mode;
     s.depths = {1.0, 5.0, 10.0};
     const Slab slab(1.0, Bottom{}, 42.0);
-    return Tracer<HomogeneousWater<Phase>, Record>(water, slab, FlatSurface(n_water), CollimatedSun(zenith_deg), s).run();
+    return Tracer<HomogeneousWater<Phase>, Record>(water, slab, FlatSurface(n_water), CollimatedSun(zenith_deg), s)
+        .run(std::move(storage));
 }
 
 }  // namespace secchi::bench

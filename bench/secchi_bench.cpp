@@ -34,14 +34,19 @@ namespace {
 using namespace secchi;
 using namespace secchi::bench;
 
-/// Scattering events per second on one core: analog transport, all events stored.
+/// Scattering events per second on one core: analog transport, all events stored, into fresh
+/// memory every run, or (`reuse_map`) into the memory of the previous run's map.
 template <class Phase, template <class, class> class Tracer = PhotonTracer>
-double events_per_second(const Phase& phase, std::uint64_t photons, int repeats) {
-    std::size_t events = 0;
-    const double t = time_runs(repeats, [&] {
-        events = trace_slab<CompactRecord, Tracer>(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog).records.size();
-    }).median;
-    return static_cast<double>(events) / t;
+double events_per_second(const Phase& phase, std::uint64_t photons, int repeats, bool reuse_map = false) {
+    std::vector<CompactRecord> map;
+    auto run = [&] {
+        map = trace_slab<CompactRecord, Tracer>(phase, 0.9, 0.0, 1.0, photons, 1, AbsorptionMode::analog,
+                                                reuse_map ? std::move(map) : std::vector<CompactRecord>{})
+                  .records;
+    };
+    if (reuse_map) run();  // untimed: the memory every timed run reuses
+    const double t = time_runs(repeats, run).median;
+    return static_cast<double>(map.size()) / t;
 }
 
 struct CollectionFigures {
@@ -98,10 +103,13 @@ int main(int argc, char** argv) {
         const TabulatedPhase petzold = petzold_m93();
         fig["events_per_s_per_core_hg"] = events_per_second(hg, 100'000 * scale, repeats);
         fig["events_per_s_per_core_petzold"] = events_per_second(petzold, 100'000 * scale, repeats);
+        fig["events_per_s_per_core_hg_map_reused"] = events_per_second(hg, 100'000 * scale, repeats, true);
 #if SECCHI_HAS_LANES
         // LaneTracer at this build's vector width (2 doubles in a portable x86-64 build;
         // walk_bench, built for the machine, has the wide-vector figure).
         fig["events_per_s_per_core_hg_lanes"] = events_per_second<HenyeyGreensteinPhase, LaneTracer>(hg, 100'000 * scale, repeats);
+        fig["events_per_s_per_core_hg_lanes_map_reused"] =
+            events_per_second<HenyeyGreensteinPhase, LaneTracer>(hg, 100'000 * scale, repeats, true);
         fig["lane_width"] = lanes::lane_width;
 #endif
 

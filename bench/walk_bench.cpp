@@ -16,7 +16,10 @@
 //    Philox per lane; a lane whose photon ends starts the next one.
 // And secchi: PhotonTracer and LaneTracer on the same problem (slab 42 m deep, detectors at
 // 1, 5, 10 m, CompactRecord with Jensen's direction bytes, analog absorption: secchi_bench's
-// events_per_s_per_core_hg), with their ratios to each walk.
+// events_per_s_per_core_hg), with their ratios to each walk. Like the bare walks, which write
+// into one vector reserved once, the tracers write each run's map into the previous run's
+// memory (run(std::move(records))); one more row gives LaneTracer with fresh memory every run,
+// which pays the kernel's page faults.
 //
 // This program is built with -march=native where the compiler accepts it (bench/CMakeLists.txt)
 // so that the lanes use the machine's widest vectors; secchi's figure here is therefore that of
@@ -251,16 +254,21 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
 #endif
 
 /// A secchi tracer (PhotonTracer or LaneTracer) on the problem of secchi_bench's
-/// events_per_s_per_core_hg; its records' mean depth (the same walk's check) goes to `mean_depth`.
+/// events_per_s_per_core_hg; its records' mean depth (the same walk's check) goes to
+/// `mean_depth`. With `reuse`, the map's records go into the memory of the previous run's
+/// (as the bare walks reuse theirs), else into fresh memory.
 template <template <class, class> class Tracer>
-std::size_t secchi_tracer(std::uint64_t photons, double& mean_depth) {
-    const auto records =
-        trace_slab<CompactRecord, Tracer>(HenyeyGreensteinPhase(g_hg), w0, 0.0, 1.0, photons, 1, AbsorptionMode::analog)
-            .records;
+std::size_t secchi_tracer(std::uint64_t photons, double& mean_depth, std::vector<CompactRecord>* reuse) {
+    auto records = trace_slab<CompactRecord, Tracer>(HenyeyGreensteinPhase(g_hg), w0, 0.0, 1.0, photons, 1,
+                                                     AbsorptionMode::analog,
+                                                     reuse ? std::move(*reuse) : std::vector<CompactRecord>{})
+                       .records;
     mean_depth = 0;
     for (const auto& r : records) mean_depth += r.z;
     mean_depth /= static_cast<double>(records.size());
-    return records.size();
+    const std::size_t events = records.size();
+    if (reuse) *reuse = std::move(records);
+    return events;
 }
 
 struct Variant {
@@ -296,15 +304,20 @@ int main(int argc, char** argv) {
             for (const auto& r : records) sum += r.z;
             return sum / static_cast<double>(records.size());
         };
-        double photon_tracer_depth = 0, lane_tracer_depth = 0;
+        double photon_tracer_depth = 0, lane_tracer_depth = 0, lane_tracer_fresh_depth = 0;
+        std::vector<CompactRecord> photon_tracer_map, lane_tracer_map;
         std::vector<Variant> variants{
-            {"secchi PhotonTracer (HG, slab, detectors, CompactRecord)",
-             [&](std::uint64_t n) { return secchi_tracer<PhotonTracer>(n, photon_tracer_depth); },
+            {"secchi PhotonTracer (HG, slab, detectors, CompactRecord; map memory reused)",
+             [&](std::uint64_t n) { return secchi_tracer<PhotonTracer>(n, photon_tracer_depth, &photon_tracer_map); },
              [&] { return photon_tracer_depth; }},
 #if SECCHI_HAS_LANES
-            {"secchi LaneTracer (" + std::to_string(lanes::lane_width) + " double lanes; the same problem)",
-             [&](std::uint64_t n) { return secchi_tracer<LaneTracer>(n, lane_tracer_depth); },
+            {"secchi LaneTracer (" + std::to_string(lanes::lane_width) +
+                 " double lanes; the same problem; map memory reused)",
+             [&](std::uint64_t n) { return secchi_tracer<LaneTracer>(n, lane_tracer_depth, &lane_tracer_map); },
              [&] { return lane_tracer_depth; }},
+            {"secchi LaneTracer, fresh map memory every run",
+             [&](std::uint64_t n) { return secchi_tracer<LaneTracer>(n, lane_tracer_fresh_depth, nullptr); },
+             [&] { return lane_tracer_fresh_depth; }},
 #endif
             {"bare walk, scalar double, xoshiro256+", walk(scalar_walk_xoshiro<double>), walk_depth},
             {"bare walk, scalar double, Philox per photon", walk(scalar_walk_philox), walk_depth},

@@ -114,8 +114,11 @@ private:
 template <class Record>
 class OrderedRecords {
 public:
-    OrderedRecords(const std::vector<Block>& blocks, std::uint64_t map_photons)
-        : blocks_(blocks), map_photons_(map_photons), done_(blocks.size(), false) {}
+    /// `storage`: where the records go (cleared; its capacity is kept).
+    OrderedRecords(const std::vector<Block>& blocks, std::uint64_t map_photons, std::vector<Record> storage = {})
+        : blocks_(blocks), map_photons_(map_photons), done_(blocks.size(), false), records_(std::move(storage)) {
+        records_.clear();
+    }
 
     template <class Results>
     void finished(std::size_t i, Results& results) {

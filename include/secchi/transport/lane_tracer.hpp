@@ -51,9 +51,11 @@ public:
           path_coefficient_(
               medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0)) {}
 
-    TransportResult<Record> run() const {
+    /// As PhotonTracer::run: `storage` (cleared first) receives the map's records.
+    TransportResult<Record> run(std::vector<Record> storage = {}) const {
         return this->run_blocks(
-            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); });
+            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); },
+            std::move(storage));
     }
 
 private:
