@@ -43,7 +43,8 @@ SECCHI_KERNEL lanes::Reals encode_theta(const lanes::Reals& dz) {
     const Reals bins = theta * (256.0 / pi);
     Reals k = lanes::stdx::min(Reals(255.0), floor(bins));
     const Reals fraction = bins - floor(bins);
-    if (none_of(fraction < 1e-4 || fraction > 1.0 - 1e-4)) return k;
+    // theta = 0 and pi (vertical photons, e.g. from a sun at the zenith) lie on no boundary.
+    if (none_of((fraction < 1e-4 && bins >= 1.0 && bins < 256.0) || fraction > 1.0 - 1e-4)) return k;
     lanes::stdx::where(dz <= lanes::lookup(t.theta_edge, k + 1.0), k) += 1.0;  // at or past the upper boundary
     lanes::stdx::where(dz > lanes::lookup(t.theta_edge, k), k) -= 1.0;         // before the lower boundary
     return k;
