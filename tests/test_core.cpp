@@ -22,6 +22,14 @@ TEST_CASE("Philox streams are reproducible and independent") {
     }
 }
 
+TEST_CASE("A generator given its block's bits, computed elsewhere, draws what the stream draws") {
+    PhotonRng stream(42, 7, 3);
+    const std::array<std::uint32_t, 4> bits = philox4x32_10({3, 0, 7, 0}, {42, 0});
+    PhotonRng given(42, 7, 3, bits);
+    for (int i = 0; i < 10; ++i) REQUIRE(given.bits() == stream.bits());
+    REQUIRE(given.next_block() == stream.next_block());
+}
+
 TEST_CASE("Philox4x32-10 known answer (Random123 kat_vectors: counter 0, key 0)") {
     PhotonRng rng(0, 0);
     REQUIRE(rng.bits() == 0x6627e8d5u);

@@ -41,6 +41,15 @@ public:
           ctr_{static_cast<std::uint32_t>(block), static_cast<std::uint32_t>(block >> 32),
                static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32)} {}
 
+    /// The same generator when its block `block` has already been computed elsewhere
+    /// (`bits` = that block's Philox output, e.g. for many streams at once in SIMD lanes): the
+    /// next draws take `bits` first, then block + 1 on.
+    PhotonRng(std::uint64_t seed, std::uint64_t stream, std::uint64_t block, const std::array<std::uint32_t, 4>& bits)
+        : PhotonRng(seed, stream, block + 1) {
+        buf_ = bits;
+        next_ = 0;
+    }
+
     /// The first block not yet drawn from: where another generator on this stream may go on
     /// (the unused draws of the current block are skipped).
     [[nodiscard]] std::uint64_t next_block() const { return ctr_[0] | (static_cast<std::uint64_t>(ctr_[1]) << 32); }

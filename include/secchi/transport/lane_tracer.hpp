@@ -78,6 +78,13 @@ private:
         std::vector<std::array<Reals, 4>> tally;  ///< per depth, per lane (summed at the end)
     };
 
+    /// The first Philox blocks of the block's next photons (up to one per lane), computed
+    /// together in the vectors: launching a photon then starts from its block 0 here.
+    struct Launches {
+        std::uint64_t first = 0, count = 0, used = 0;
+        alignas(64) std::uint32_t bits[4][width];
+    };
+
     /// The four uniforms of one step, per lane.
     struct StepUniforms {
         alignas(64) double path[width], absorb_or_store[width], psi[width], phi[width];
@@ -86,10 +93,11 @@ private:
     void trace_block(const detail::Block& block, detail::BlockResult<Record>& out) const {
         Lanes lanes{};
         lanes.tally.assign(this->layers_.size(), {Reals(0.0), Reals(0.0), Reals(0.0), Reals(0.0)});
-        std::uint64_t next = block.begin;
-        for (int l = 0; l < width; ++l) start(lanes, l, next, block.end, out.ledger);
+        Launches launches;
+        launches.first = block.begin;
+        for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out.ledger);
         while (std::any_of(std::begin(lanes.alive), std::end(lanes.alive), [](bool a) { return a; }))
-            step(lanes, next, block.end, out);
+            step(lanes, launches, block.end, out);
         for (int l = 0; l < width; ++l) out.ledger.absorbed += lanes.absorbed[l];
         for (std::size_t i = 0; i < lanes.tally.size(); ++i)
             for (int k = 0; k < 4; ++k)
@@ -99,10 +107,11 @@ private:
     /// Puts the block's next photon that enters the water into lane l (PhotonTracer::launch),
     /// or parks the lane when the block has none left: a parked lane has zero weight, stores
     /// nothing, and every per-lane action skips it.
-    void start(Lanes& L, int l, std::uint64_t& next, std::uint64_t end, EnergyLedger& ledger) const {
-        while (next < end) {
-            const std::uint64_t i = next++;
-            PhotonRng rng(this->s_.seed, i);
+    void start(Lanes& L, int l, Launches& next, std::uint64_t end, EnergyLedger& ledger) const {
+        while (next.used < next.count || next.first + next.count < end) {
+            if (next.used == next.count) prepare(next, end);
+            const std::uint64_t u = next.used++, i = next.first + u;
+            PhotonRng rng(this->s_.seed, i, 0, {next.bits[0][u], next.bits[1][u], next.bits[2][u], next.bits[3][u]});
             PhotonState p;
             if (!this->launch(p, rng, ledger)) continue;
             put(L, l, p);
@@ -142,6 +151,19 @@ private:
         put(L, l, p);
     }
 
+    /// Block 0 of the stream of each of the block's next `width` photons (a loop the compiler
+    /// vectorises): the launches of the photons after those already launched.
+    void prepare(Launches& next, std::uint64_t end) const {
+        next.first += next.count;
+        next.count = std::min<std::uint64_t>(width, end - next.first);
+        next.used = 0;
+        for (int l = 0; l < width; ++l) {
+            const std::uint64_t i = next.first + l;
+            const auto r = philox4x32_10({0, 0, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i >> 32)}, key_);
+            for (int k = 0; k < 4; ++k) next.bits[k][l] = r[k];
+        }
+    }
+
     /// One Philox block per lane (a loop the compiler vectorises), as four uniforms.
     void draw(Lanes& L, StepUniforms& u) const {
         for (int l = 0; l < width; ++l) {
@@ -157,7 +179,7 @@ private:
     }
 
     /// Every lane's photon to its next event: PhotonTracer::follow's loop body, per lane.
-    void step(Lanes& L, std::uint64_t& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
+    void step(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
         StepUniforms u;
         draw(L, u);
         const Mask alive(L.alive, aligned);
