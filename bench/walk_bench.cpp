@@ -164,8 +164,8 @@ private:
     U s_[4];
 };
 
-/// Four uniforms per lane and step: one Philox4x32-10 block of the lane's photon stream (the
-/// rounds of secchi::PhotonRng on 32-bit words held in 64-bit lanes).
+/// Four uniforms per lane and step: one Philox4x32-10 block of the lane's photon stream
+/// (lanes::philox_uniforms, LaneTracer's draw).
 class PhiloxLanes {
 public:
     void start(int lane, std::uint64_t photon) {
@@ -173,21 +173,9 @@ public:
         stream_[lane] = photon;
     }
     void draw(V (&u)[4]) {
-        const U lo32(0xffffffffull);
-        U x0([&](auto l) { return ctr_[l] & 0xffffffffull; }), x1([&](auto l) { return ctr_[l] >> 32; });
-        U x2([&](auto l) { return stream_[l] & 0xffffffffull; }), x3([&](auto l) { return stream_[l] >> 32; });
-        std::uint64_t k0 = 1, k1 = 0;  // seed 1
-        for (int round = 0; round < 10; ++round) {
-            const U p0 = x0 * U(0xD2511F53ull), p1 = x2 * U(0xCD9E8D57ull);
-            x0 = (p1 >> 32) ^ x1 ^ U(k0);
-            x1 = p1 & lo32;
-            x2 = (p0 >> 32) ^ x3 ^ U(k1);
-            x3 = p0 & lo32;
-            k0 = (k0 + 0x9E3779B9u) & 0xffffffffull;
-            k1 = (k1 + 0xBB67AE85u) & 0xffffffffull;
-        }
-        const U* x[4] = {&x0, &x1, &x2, &x3};
-        for (int k = 0; k < 4; ++k) u[k] = (stdx::static_simd_cast<V>(*x[k]) + 0.5) * 0x1p-32;
+        alignas(64) double w[4][lane_count];
+        lanes::philox_uniforms(ctr_, stream_, {1, 0}, {w[0], w[1], w[2], w[3]});  // seed 1
+        for (int k = 0; k < 4; ++k) u[k] = V(w[k], lanes::aligned);
         for (auto& c : ctr_) ++c;
     }
 

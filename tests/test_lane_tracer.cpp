@@ -84,6 +84,20 @@ TEST_CASE("log, sin_cos and the rotation in lanes compute what they compute for 
     CHECK(worst_rotation <= 1e-15);
 }
 
+TEST_CASE("Philox uniforms in lanes equal PhotonRng's, bit for bit") {
+    const std::array<std::uint32_t, 2> key{0x9abcdef0u, 0x12345678u};
+    for (std::uint64_t first : {0ull, 1ull << 31, (1ull << 32) - 3, 0xfedcba9876543210ull}) {
+        alignas(64) std::uint64_t block[lane_width], stream[lane_width];
+        alignas(64) double u[4][lane_width];
+        for (int l = 0; l < lane_width; ++l) block[l] = first + 977 * l, stream[l] = ~first - 13 * l;
+        lanes::philox_uniforms(block, stream, key, {u[0], u[1], u[2], u[3]});
+        for (int l = 0; l < lane_width; ++l) {
+            PhotonRng rng(0x123456789abcdef0ull, stream[l], block[l]);
+            for (int k = 0; k < 4; ++k) REQUIRE(u[k][l] == rng.uniform());
+        }
+    }
+}
+
 TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in lanes") {
     const HenyeyGreensteinPhase hg(0.9);
     const Slab slab(1.0, Bottom{}, 10.0);

@@ -82,7 +82,7 @@ private:
     /// together in the vectors: launching a photon then starts from its block 0 here.
     struct Launches {
         std::uint64_t first = 0, count = 0, used = 0;
-        alignas(64) std::uint32_t bits[4][width];
+        std::uint32_t bits[4][width];
     };
 
     /// The four uniforms of one step, per lane.
@@ -151,7 +151,7 @@ private:
         put(L, l, p);
     }
 
-    /// Block 0 of the stream of each of the block's next `width` photons (a loop the compiler
+    /// Block 0 of the streams of the block's next `width` photons (a loop the compiler
     /// vectorises): the launches of the photons after those already launched.
     void prepare(Launches& next, std::uint64_t end) const {
         next.first += next.count;
@@ -164,18 +164,10 @@ private:
         }
     }
 
-    /// One Philox block per lane (a loop the compiler vectorises), as four uniforms.
+    /// One Philox block per lane, as four uniforms.
     void draw(Lanes& L, StepUniforms& u) const {
-        for (int l = 0; l < width; ++l) {
-            const std::uint64_t b = L.block[l]++, i = L.photon[l];
-            const auto r = philox4x32_10({static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(b >> 32),
-                                          static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i >> 32)},
-                                         key_);
-            u.path[l] = uniform_from_bits(r[0]);
-            u.absorb_or_store[l] = uniform_from_bits(r[1]);
-            u.psi[l] = uniform_from_bits(r[2]);
-            u.phi[l] = uniform_from_bits(r[3]);
-        }
+        lanes::philox_uniforms(L.block, L.photon, key_, {u.path, u.absorb_or_store, u.psi, u.phi});
+        for (auto& b : L.block) ++b;
     }
 
     /// Every lane's photon to its next event: PhotonTracer::follow's loop body, per lane.
