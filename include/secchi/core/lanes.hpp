@@ -68,18 +68,18 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
     return Reals(v, aligned);
 }
 
-/// One Philox4x32-10 block (philox4x32_10, core/rng.hpp) per lane, counter (block, stream)
-/// from 64-bit block and stream numbers, as four uniforms per lane: u[k] in lane l is
-/// uniform_from_bits(philox4x32_10(counter_l, key)[k]) exactly (tests/test_lane_tracer.cpp).
+/// One Philox4x32-10 block per lane (philox_block, core/rng.hpp) from 64-bit block and
+/// stream numbers, as four uniforms per lane: u[k] in lane l is
+/// uniform_from_bits(philox_block(block_l, stream_l, key)[k]) exactly (tests/test_lane_tracer.cpp).
 /// With AVX-512DQ (a 64-bit multiply per lane) the rounds run on vectors of 64-bit words,
 /// each holding a 32-bit word, and a word becomes a double as (2^52 + word) - 2^52 (1.10x
-/// LaneTracer's speed); elsewhere a loop of philox4x32_10 over the lanes, which GCC vectorises
+/// LaneTracer's speed); elsewhere a loop of philox_block over the lanes, which GCC vectorises
 /// with its 32 x 32 -> 64-bit multiplies (the vector rounds, with a 64-bit multiply made of
 /// three, measured 1.06x slower with SSE2 and 1.08x with AVX2).
 /// The lanes' block and stream numbers are read from `block` and `stream`, the uniforms
 /// written to u[0..3] (arrays of lane_width doubles, vector-aligned).
-inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream,
-                                   std::array<std::uint32_t, 2> key, double* const (&u)[4]) {
+inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, std::array<std::uint32_t, 2> key,
+                            double* const (&u)[4]) {
 #if defined(__AVX512DQ__)
     const Words lo32(0xffffffffull), b(block, stdx::element_aligned), i(stream, stdx::element_aligned);
     Words x[4] = {b & lo32, b >> 32, i & lo32, i >> 32};
@@ -98,10 +98,7 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
     }
 #else
     for (int l = 0; l < lane_width; ++l) {
-        const std::uint64_t b = block[l], i = stream[l];
-        const auto r = philox4x32_10({static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(b >> 32),
-                                      static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i >> 32)},
-                                     key);
+        const auto r = philox_block(block[l], stream[l], key);
         for (int k = 0; k < 4; ++k) u[k][l] = uniform_from_bits(r[k]);
     }
 #endif

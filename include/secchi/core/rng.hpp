@@ -28,6 +28,18 @@ inline std::array<std::uint32_t, 4> philox4x32_10(std::array<std::uint32_t, 4> x
     return x;
 }
 
+/// Block `block` of stream `stream` under `key`: Philox on the counter (block lo, block hi,
+/// stream lo, stream hi), as PhotonRng lays it out.
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+inline std::array<std::uint32_t, 4> philox_block(std::uint64_t block, std::uint64_t stream,
+                                                 std::array<std::uint32_t, 2> key) {
+    return philox4x32_10({static_cast<std::uint32_t>(block), static_cast<std::uint32_t>(block >> 32),
+                          static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32)},
+                         key);
+}
+
 /// A 32-bit random word as a uniform double in the open interval (0, 1).
 inline double uniform_from_bits(std::uint32_t bits) { return (static_cast<double>(bits) + 0.5) * 0x1p-32; }
 

@@ -158,8 +158,7 @@ private:
         next.count = std::min<std::uint64_t>(width, end - next.first);
         next.used = 0;
         for (int l = 0; l < width; ++l) {
-            const std::uint64_t i = next.first + l;
-            const auto r = philox4x32_10({0, 0, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i >> 32)}, key_);
+            const auto r = philox_block(0, next.first + l, key_);
             for (int k = 0; k < 4; ++k) next.bits[k][l] = r[k];
         }
     }
