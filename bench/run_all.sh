@@ -31,6 +31,8 @@ run() {  # run CMD...: echo the command into the markdown, then append its table
     echo "## Search structures and collection ($(date -u +%Y-%m-%d))"
     echo
     echo "Machine: \`nproc\` = $(nproc), CPU \"$cpu\" (/proc/cpuinfo), $(uname -sr), compiler $(c++ --version | head -1)."
+    native="$(grep -s '^SECCHI_BENCH_NATIVE:' "$build/CMakeCache.txt" | cut -d= -f2 || true)"
+    echo "Benchmarks built with SECCHI_BENCH_NATIVE=${native:-ON} (ON: -march=native where accepted)."
     echo "Run with \`bash bench/run_all.sh $*\`. Timings are medians of repeated runs with the spread [min-max];"
     echo "the machine is shared, so compare figures within one table (ratios), not across runs."
     echo

@@ -105,8 +105,8 @@ int main(int argc, char** argv) {
         fig["events_per_s_per_core_petzold"] = events_per_second(petzold, 100'000 * scale, repeats);
         fig["events_per_s_per_core_hg_map_reused"] = events_per_second(hg, 100'000 * scale, repeats, true);
 #if SECCHI_HAS_LANES
-        // LaneTracer at this build's vector width (2 doubles in a portable x86-64 build;
-        // walk_bench, built for the machine, has the wide-vector figure).
+        // LaneTracer at this build's vector width (lane_width: 8 doubles with AVX-512, in the
+        // benchmarks' default -march=native build; 2 in a portable x86-64 build).
         fig["events_per_s_per_core_hg_lanes"] = events_per_second<HenyeyGreensteinPhase, LaneTracer>(hg, 100'000 * scale, repeats);
         fig["events_per_s_per_core_hg_lanes_map_reused"] =
             events_per_second<HenyeyGreensteinPhase, LaneTracer>(hg, 100'000 * scale, repeats, true);

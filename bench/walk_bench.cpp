@@ -21,9 +21,8 @@
 // memory (run(std::move(records))); one more row gives LaneTracer with fresh memory every run,
 // which pays the kernel's page faults.
 //
-// This program is built with -march=native where the compiler accepts it (bench/CMakeLists.txt)
-// so that the lanes use the machine's widest vectors; secchi's figure here is therefore that of
-// a native build (secchi_bench's headline is the portable build's).
+// Like every benchmark, this program is built with -march=native where the compiler accepts it
+// (bench/CMakeLists.txt, SECCHI_BENCH_NATIVE) so that the lanes use the machine's widest vectors.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
