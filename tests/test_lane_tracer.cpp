@@ -272,17 +272,9 @@ TEST_CASE("LaneTracer and PhotonTracer agree within their standard errors") {
 }
 
 TEST_CASE("LaneTracer is bit-identical for 1 and 2 threads") {
-    TransportSettings s;
-    s.photons = 30000;
-    s.map_photons = 20000;
-    s.depths = {0.0, 1.0, 5.0};
-    s.block_size = 1000;
-    s.absorption = AbsorptionMode::implicit_capture;
-    s.threads = 1;
-    const auto a = trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
-    s.threads = 2;
-    const auto b = trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
-    testing::require_identical(a, b);
+    testing::require_same_for_1_and_2_threads(AbsorptionMode::implicit_capture, [](const TransportSettings& s) {
+        return trace<LaneTracer>(HenyeyGreensteinPhase(0.9), s, Bottom::lambertian_at(8.0, 0.3));
+    });
 }
 
 TEST_CASE("LaneTracer rejects depth importance by name") {

@@ -110,17 +110,8 @@ TEST_CASE("Beer-Lambert with continuous absorption is exact per photon") {
 }
 
 TEST_CASE("Results are bit-identical for 1 and 2 threads") {
-    TransportSettings s;
-    s.photons = 30000;
-    s.map_photons = 20000;
-    s.depths = {0.0, 1.0, 5.0};
-    s.block_size = 1000;
-    s.absorption = AbsorptionMode::continuous;
-    s.threads = 1;
-    const auto a = run(HenyeyGreensteinPhase(0.9), 0.9, s);
-    s.threads = 2;
-    const auto b = run(HenyeyGreensteinPhase(0.9), 0.9, s);
-    testing::require_identical(a, b);
+    testing::require_same_for_1_and_2_threads(
+        AbsorptionMode::continuous, [](const TransportSettings& s) { return run(HenyeyGreensteinPhase(0.9), 0.9, s); });
 }
 
 TEST_CASE("A run given an earlier map's records writes into their memory and gives the same result") {

@@ -1,7 +1,8 @@
 #pragma once
 // Checks shared by the first-pass tests (test_transport.cpp, test_lane_tracer.cpp): two
 // estimates agreeing within 4 combined standard errors (fixed in advance), and two runs with
-// bit-identical output (records, every irradiance and its SE, ledger, bottom Ed).
+// bit-identical output (records, every irradiance and its SE, ledger, bottom Ed), also for 1
+// and 2 threads.
 #include <catch2/catch.hpp>
 
 #include "secchi/transport/tracer.hpp"
@@ -27,6 +28,24 @@ void require_identical(const TransportResult<Record>& a, const TransportResult<R
         }
     REQUIRE(a.ledger.absorbed == b.ledger.absorbed);
     REQUIRE(a.bottom_ed.value == b.bottom_ed.value);
+}
+
+/// Traces `trace(settings)` on 1 and on 2 threads (30,000 photons, 20,000 of them into the
+/// map, blocks of 1,000, detectors at 0, 1 and 5 m, absorption `mode`) and requires
+/// bit-identical output.
+template <class Trace>
+void require_same_for_1_and_2_threads(AbsorptionMode mode, Trace&& trace) {
+    TransportSettings s;
+    s.photons = 30000;
+    s.map_photons = 20000;
+    s.depths = {0.0, 1.0, 5.0};
+    s.block_size = 1000;
+    s.absorption = mode;
+    s.threads = 1;
+    const auto a = trace(s);
+    s.threads = 2;
+    const auto b = trace(s);
+    require_identical(a, b);
 }
 
 }  // namespace secchi::testing

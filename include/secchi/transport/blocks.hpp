@@ -36,7 +36,13 @@ class ChunkPool {
 public:
     static constexpr std::size_t per_chunk = std::max<std::size_t>(1, 65536 / sizeof(Record));
 
-    /// An empty chunk with room for per_chunk records.
+    /// A new empty chunk with room for per_chunk records.
+    static std::vector<Record> fresh() {
+        std::vector<Record> chunk;
+        chunk.reserve(per_chunk);
+        return chunk;
+    }
+    /// An empty chunk with room for per_chunk records: one given back, else a fresh one.
     std::vector<Record> take() {
         {
             std::lock_guard lock(mutex_);
@@ -46,9 +52,7 @@ public:
                 return chunk;
             }
         }
-        std::vector<Record> chunk;
-        chunk.reserve(per_chunk);
-        return chunk;
+        return fresh();
     }
     void give(std::vector<Record>&& chunk) {
         chunk.clear();
@@ -95,12 +99,7 @@ public:
     }
 
 private:
-    std::vector<Record> new_chunk() {
-        if (pool_) return pool_->take();
-        std::vector<Record> chunk;
-        chunk.reserve(ChunkPool<Record>::per_chunk);
-        return chunk;
-    }
+    std::vector<Record> new_chunk() { return pool_ ? pool_->take() : ChunkPool<Record>::fresh(); }
 
     ChunkPool<Record>* pool_ = nullptr;
     std::vector<std::vector<Record>> chunks_;
