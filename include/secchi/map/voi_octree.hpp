@@ -51,7 +51,12 @@
 // Software prefetching of the children and a depth-first node layout were tried and measured
 // no faster. Changing the leaf size reorders the records, so sums over hits change in their
 // last bits (not in value beyond rounding).
-// The leaf scan (filter(), measure()) computes in_cylinder's double arithmetic in loops the
+// Where the target has AVX-512 (F and VL; the benchmarks' -march=native build here), the leaf
+// scan of CompactRecords is map/cylinder_scan.hpp's: eight records per vector, the accepted
+// ones packed by register compresses, for chunks of any length (no scalar path for short
+// ones); search only, about 1.15 times the rays/s of the loops below (BENCHMARKS.md, sixth
+// session), with the same hits and values. Otherwise:
+// the leaf scan (filter(), measure()) computes in_cylinder's double arithmetic in loops the
 // compiler vectorises (two records per SSE2 register) for chunks of 32 records or more: at
 // leaf size 128 about 1.1 times the rays/s of testing one record at a time (tune suite,
 // r = 0.026 and 0.05), which was bound by the floating-point ports (~25 operations per
@@ -67,6 +72,7 @@
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
+#include "secchi/map/cylinder_scan.hpp"
 #include "secchi/map/search_support.hpp"
 #include <array>
 #include <bit>
@@ -267,10 +273,9 @@ private:
                 Chunk chunk;
                 const std::uint32_t n = filter(begin, end, ray, r2, chunk);
                 for (std::uint32_t k = 0; k < n; ++k) {
-                    const std::uint32_t slot = chunk.accepted[k];
-                    hit.index = begin + slot;
-                    hit.t = chunk.t[slot];
-                    hit.distance2 = chunk.distance2[slot];
+                    hit.index = begin + chunk.accepted[k];
+                    hit.t = chunk.t[k];
+                    hit.distance2 = chunk.distance2[k];
                     if (!collect(hit)) return false;
                 }
             }
@@ -278,16 +283,18 @@ private:
         return true;
     }
 
-    /// One chunk of a range: in_cylinder's t and distance2 of record begin + slot in each
-    /// slot, whether in_cylinder accepts it (1.0 or 0.0), and the accepted slots in order.
+    /// One chunk of a range [begin, end): the records in_cylinder accepts, packed in order:
+    /// hit k is record begin + accepted[k] with in_cylinder's t[k] and distance2[k]. (measure()
+    /// first fills slot k with record begin + k's values; filter() packs them in place.)
     struct Chunk {
         static constexpr std::uint32_t capacity = 64;
         /// Fewer records go through filter_scalar(): the vectorised loops' fixed cost per
         /// chunk (three loops, the padding) pays back only over longer chunks (leaf size 8:
         /// 0.9 times the rays/s with every chunk vectorised, and no gain at leaf size 32).
         static constexpr std::uint32_t vector_minimum = 32;
-        std::array<double, capacity> t, distance2, inside;
-        std::array<std::uint32_t, capacity> accepted;
+        std::array<double, capacity + detail::kScanSlack> t, distance2;
+        std::array<double, capacity> inside;
+        std::array<std::uint32_t, capacity + detail::kScanSlack> accepted;
     };
 
     /// in_cylinder's arithmetic over records [begin, end) (at most Chunk::capacity) into
@@ -346,11 +353,18 @@ private:
     __attribute__((noinline))
 #endif
     std::uint32_t filter(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
+#if SECCHI_HAS_AVX512_SCAN
+        if constexpr (detail::PackedFloatRecord<Record>)
+            return detail::scan_cylinder(records_.data() + begin, end - begin, ray, r2, chunk.t.data(),
+                                         chunk.distance2.data(), chunk.accepted.data());
+#endif
         if (end - begin < Chunk::vector_minimum) return filter_scalar(begin, end, ray, r2, chunk);
         measure(begin, end, ray, r2, chunk);
         std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < end - begin; ++k) {
+        for (std::uint32_t k = 0; k < end - begin; ++k) {  // packed in place: n <= k
             chunk.accepted[n] = k;
+            chunk.t[n] = chunk.t[k];
+            chunk.distance2[n] = chunk.distance2[k];
             // 1.0 is 0x3FF0... and 0.0 is 0: the top three bits are 001 or 000 (integer work only).
             n += static_cast<std::uint32_t>(std::bit_cast<std::uint64_t>(chunk.inside[k]) >> 61);
         }
@@ -369,8 +383,8 @@ private:
             const double t = glm::dot(d, u);
             const vec3 perp = d - t * u;
             const double dist2 = glm::dot(perp, perp);
-            chunk.t[k] = t;
-            chunk.distance2[k] = dist2;
+            chunk.t[n] = t;
+            chunk.distance2[n] = dist2;
             chunk.accepted[n] = k;
             n += static_cast<std::uint32_t>((t >= 0.0) & (t <= t_max) & (dist2 <= r2));
         }

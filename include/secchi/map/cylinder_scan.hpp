@@ -1,0 +1,112 @@
+#pragma once
+// The cylinder test of a run of records in AVX-512, for the VOI octree's leaf scan
+// (map/voi_octree.hpp): which records of a run lie in the cylinder of radius r around a ray
+// segment, with in_cylinder's t and distance2 (store.hpp), packed in record order.
+//
+// For records of 16 bytes whose position is three floats at bytes 0, 4 and 8 (CompactRecord).
+// Eight records at a time: two 64-byte loads, the x, y and z floats picked out by three
+// two-source permutes and widened to doubles, in_cylinder's arithmetic on 8 doubles, its three
+// comparisons as one mask, and the accepted lanes packed by register compresses, each stored
+// as a whole vector at the current fill (so the output arrays need kSlack spare entries). The
+// compress goes to a register, not straight to memory: AMD's Zen 4 microcodes the
+// compress-to-memory form (tens of cycles).
+//
+// The arithmetic is in_cylinder's, in its order, written with the vector types' operators so
+// that the compiler treats it as it treats in_cylinder's scalar code: where it fuses
+// multiply-adds (-ffp-contract=fast, GCC's default outside ISO mode, on a target with FMA) it
+// fuses both alike; tests/test_stores.cpp compares with in_cylinder bit for bit where it
+// cannot fuse and to rounding where it can.
+//
+// Only where the target has AVX-512F and VL (SECCHI_HAS_AVX512_SCAN); elsewhere the octree
+// keeps its portable loops. Measured in BENCHMARKS.md ("Sixth session").
+#include "secchi/map/store.hpp"
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#include <immintrin.h>
+#define SECCHI_HAS_AVX512_SCAN 1
+#else
+#define SECCHI_HAS_AVX512_SCAN 0
+#endif
+
+namespace secchi::detail {
+
+/// A record the scan can read: 16 bytes, standard layout, position floats x, y, z at 0, 4, 8.
+template <class R>
+concept PackedFloatRecord = std::is_standard_layout_v<R> && sizeof(R) == 16 && requires(const R r) {
+    requires std::is_same_v<decltype(r.x), float> && std::is_same_v<decltype(r.y), float> &&
+                 std::is_same_v<decltype(r.z), float>;
+    requires offsetof(R, x) == 0 && offsetof(R, y) == 4 && offsetof(R, z) == 8;
+};
+
+/// Spare entries the output arrays need past the last accepted record (one vector).
+inline constexpr std::uint32_t kScanSlack = 8;
+
+#if SECCHI_HAS_AVX512_SCAN
+// GCC 12's AVX-512 intrinsics warn about their own deliberately undefined vectors where they
+// are inlined (GCC bug 105593, fixed in GCC 13; as in core/lanes.hpp): silenced for this function.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+/// The records records[0, count) that in_cylinder(ray, position, r2) accepts: their t,
+/// distance2 and offset (index into records) written to t[n], distance2[n], offset[n] for
+/// n = 0, 1, ... in record order; returns their number. The arrays need count + kScanSlack
+/// entries. Never reads past records[count - 1].
+template <PackedFloatRecord R>
+std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ray, double r2, double* t,
+                            double* distance2, std::uint32_t* offset) {
+    const float* const floats = reinterpret_cast<const float*>(records);
+    // permutex2var indices: element 4k (+1, +2) of the 32 floats of two vectors is record k's x (y, z).
+    const __m512i pick_x = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 0, 0, 0, 0, 0, 0, 0);
+    const __m512i pick_y = _mm512_add_epi32(pick_x, _mm512_set1_epi32(1));
+    const __m512i pick_z = _mm512_add_epi32(pick_x, _mm512_set1_epi32(2));
+    const __m512d ox = _mm512_set1_pd(ray.origin.x), oy = _mm512_set1_pd(ray.origin.y), oz = _mm512_set1_pd(ray.origin.z);
+    const __m512d ux = _mm512_set1_pd(ray.direction.x), uy = _mm512_set1_pd(ray.direction.y),
+                  uz = _mm512_set1_pd(ray.direction.z);
+    const __m512d zero = _mm512_setzero_pd(), t_max = _mm512_set1_pd(ray.t_max), radius2 = _mm512_set1_pd(r2);
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    std::uint32_t n = 0;
+    for (std::uint32_t k = 0; k < count; k += 8) {
+        const std::uint32_t left = count - k;
+        const float* const p = floats + 4 * std::size_t{k};
+        __m512 a, b;
+        __mmask8 valid = 0xff;
+        if (left >= 8) {
+            a = _mm512_loadu_ps(p);
+            b = _mm512_loadu_ps(p + 16);
+        } else {  // masked loads: the floats of the records that exist, no read past them
+            const __mmask16 first = left >= 4 ? __mmask16(0xffff) : __mmask16((1u << (4 * left)) - 1);
+            const __mmask16 second = left > 4 ? __mmask16((1u << (4 * (left - 4))) - 1) : __mmask16(0);
+            a = _mm512_maskz_loadu_ps(first, p);
+            b = _mm512_maskz_loadu_ps(second, p + 16);
+            valid = __mmask8((1u << left) - 1);
+        }
+        const __m512d x = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(a, pick_x, b)));
+        const __m512d y = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(a, pick_y, b)));
+        const __m512d z = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(a, pick_z, b)));
+        // in_cylinder: d = p - o, t = d . u, perp = d - t u, distance2 = perp . perp
+        // (glm's dot sums x, y, z left to right, as here).
+        const __m512d dx = x - ox, dy = y - oy, dz = z - oz;
+        const __m512d tt = dx * ux + dy * uy + dz * uz;
+        const __m512d px = dx - tt * ux, py = dy - tt * uy, pz = dz - tt * uz;
+        const __m512d d2 = px * px + py * py + pz * pz;
+        const __mmask8 inside = valid & _mm512_cmp_pd_mask(tt, zero, _CMP_GE_OQ) &
+                                _mm512_cmp_pd_mask(tt, t_max, _CMP_LE_OQ) & _mm512_cmp_pd_mask(d2, radius2, _CMP_LE_OQ);
+        _mm512_storeu_pd(t + n, _mm512_maskz_compress_pd(inside, tt));
+        _mm512_storeu_pd(distance2 + n, _mm512_maskz_compress_pd(inside, d2));
+        const __m256i index = _mm256_add_epi32(lane, _mm256_set1_epi32(static_cast<int>(k)));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(offset + n), _mm256_maskz_compress_epi32(inside, index));
+        n += static_cast<std::uint32_t>(__builtin_popcount(inside));
+    }
+    return n;
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+#endif
+
+}  // namespace secchi::detail
