@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -252,11 +253,13 @@ TEMPLATE_TEST_CASE("along matches brute force where in_cylinder's rounding domin
         for (const double far : {1.0, 10.0, 100.0, 1000.0}) {
             const Query q{base, Ray{base - far * dir, dir, 2.0 * far}, r};
             INFO("r " << r << " origin " << far << " m away");
-            // Here dist^2 is rounding noise of |d|^2 ~ far^2. Where the compiler fuses
-            // multiply-adds (-ffp-contract=fast on an FMA target) it may fuse the two codes
-            // differently: their dist^2 then differ by that noise (pruning_pad's 1e-13 |d|^2 bounds it).
+            // Where the compiler fuses multiply-adds (-ffp-contract=fast on an FMA target) it
+            // may fuse the two codes differently. Each component of perp = d - t u then differs
+            // by at most a few ulp of |d| <= far + 1 (delta = 8 eps (far + 1)), so for records
+            // within 4 r of the axis dist^2 = perp . perp differs by at most delta (8 r + delta).
 #if defined(__FP_FAST_FMA)
-            const double d2_slack = 1e-13 * (far + 1.0) * (far + 1.0);
+            const double delta = 8.0 * std::numeric_limits<double>::epsilon() * (far + 1.0);
+            const double d2_slack = delta * (8.0 * r + delta);
 #else
             const double d2_slack = 0.0;
 #endif
