@@ -41,6 +41,20 @@ inline Timing time_runs(int repeats, const std::function<void()>& work) {
     return time_runs(repeats, [] {}, work);
 }
 
+/// time(a) / time(b) over `rounds` rounds, each running a then b: median [min-max] of the
+/// rounds' ratios. Two variants timed in separate blocks each see whatever load the shared
+/// machine had during their block; a round's pair sees about the same, so the paired ratio is
+/// the steadier comparison (the guide's "ratios measured in one run").
+inline Timing paired_ratio(int rounds, const std::function<void()>& a, const std::function<void()>& b) {
+    std::vector<double> r;
+    for (int i = 0; i < rounds; ++i) {
+        const double ta = seconds(a);
+        r.push_back(ta / seconds(b));
+    }
+    std::sort(r.begin(), r.end());
+    return {median(r), r.front(), r.back()};
+}
+
 inline std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
