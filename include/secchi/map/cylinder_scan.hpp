@@ -1,15 +1,22 @@
 #pragma once
-// The cylinder test of a run of records in AVX-512, for the VOI octree's leaf scan
+// The cylinder test of a run of records in SIMD, for the VOI octree's leaf scan
 // (map/voi_octree.hpp): which records of a run lie in the cylinder of radius r around a ray
 // segment, with in_cylinder's t and distance2 (store.hpp), packed in record order.
 //
 // For records of 16 bytes whose position is three floats at bytes 0, 4 and 8 (CompactRecord).
-// Eight records at a time: two 64-byte loads, the x, y and z floats picked out by three
-// two-source permutes and widened to doubles, in_cylinder's arithmetic on 8 doubles, its three
-// comparisons as one mask, and the accepted lanes packed by register compresses, each stored
-// as a whole vector at the current fill (so the output arrays need kSlack spare entries). The
-// compress goes to a register, not straight to memory: AMD's Zen 4 microcodes the
-// compress-to-memory form (tens of cycles).
+// Two kernels, one chosen at compile time by the target (SECCHI_HAS_CYLINDER_SCAN: 1 with
+// AVX-512F and VL, or with AVX2 and FMA; 0 elsewhere, where the octree keeps its portable
+// loops):
+//  - AVX-512: eight records at a time: two 64-byte loads, the x, y and z floats picked out by
+//    three two-source permutes and widened to doubles, in_cylinder's arithmetic on 8 doubles,
+//    its three comparisons as one mask, and the accepted lanes packed by register compresses,
+//    each stored as a whole vector at the current fill (so the output arrays need kScanSlack
+//    spare entries). The compress goes to a register, not straight to memory: AMD's Zen 4
+//    microcodes the compress-to-memory form (tens of cycles).
+//  - AVX2: four records at a time: four 16-byte loads transposed into x, y and z (the classic
+//    4 x 4 float transpose, w dropped), widened to doubles, the same arithmetic on 4 doubles;
+//    AVX2 has no compress, so the accepted lanes are packed by a permute whose indices come
+//    from a 16-entry table indexed by the comparison mask (kPack), stored whole as above.
 //
 // The arithmetic is in_cylinder's, in its order, written with the vector types' operators so
 // that the compiler treats it as it treats in_cylinder's scalar code: where it fuses
@@ -17,18 +24,24 @@
 // fuses both alike; tests/test_stores.cpp compares with in_cylinder bit for bit where it
 // cannot fuse and to rounding where it can.
 //
-// Only where the target has AVX-512F and VL (SECCHI_HAS_AVX512_SCAN); elsewhere the octree
-// keeps its portable loops. Measured in BENCHMARKS.md ("Sixth session").
+// Measured in BENCHMARKS.md ("Sixth session" for AVX-512, "Seventh session" for AVX2).
 #include "secchi/map/store.hpp"
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
 #if defined(__AVX512F__) && defined(__AVX512VL__)
 #include <immintrin.h>
-#define SECCHI_HAS_AVX512_SCAN 1
+#define SECCHI_HAS_CYLINDER_SCAN 1
+#define SECCHI_CYLINDER_SCAN_AVX512 1
+#elif defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define SECCHI_HAS_CYLINDER_SCAN 1
+#define SECCHI_CYLINDER_SCAN_AVX512 0
 #else
-#define SECCHI_HAS_AVX512_SCAN 0
+#define SECCHI_HAS_CYLINDER_SCAN 0
+#define SECCHI_CYLINDER_SCAN_AVX512 0
 #endif
 
 namespace secchi::detail {
@@ -44,7 +57,7 @@ concept PackedFloatRecord = std::is_standard_layout_v<R> && sizeof(R) == 16 && r
 /// Spare entries the output arrays need past the last accepted record (one vector).
 inline constexpr std::uint32_t kScanSlack = 8;
 
-#if SECCHI_HAS_AVX512_SCAN
+#if SECCHI_CYLINDER_SCAN_AVX512
 // GCC 12's AVX-512 intrinsics warn about their own deliberately undefined vectors where they
 // are inlined (GCC bug 105593, fixed in GCC 13; as in core/lanes.hpp): silenced for this function.
 #if defined(__GNUC__) && !defined(__clang__)
@@ -107,6 +120,73 @@ std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ra
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
+#endif
+
+#if SECCHI_HAS_CYLINDER_SCAN && !SECCHI_CYLINDER_SCAN_AVX512
+/// The AVX2 packing table: for each 4-bit mask m of accepted lanes, lanes[m] lists the
+/// accepted lanes in order (unused entries 0) and doubles[m] the 32-bit element pairs that a
+/// permute of 4 doubles needs to move those lanes to the front.
+struct PackTable {
+    std::array<std::array<std::int32_t, 4>, 16> lanes{};
+    std::array<std::array<std::int32_t, 8>, 16> doubles{};
+};
+inline constexpr PackTable kPack = [] {
+    PackTable p;
+    for (int m = 0; m < 16; ++m) {
+        int n = 0;
+        for (int lane = 0; lane < 4; ++lane) {
+            if (!(m & (1 << lane))) continue;
+            p.lanes[m][n] = lane;
+            p.doubles[m][2 * n] = 2 * lane;
+            p.doubles[m][2 * n + 1] = 2 * lane + 1;
+            ++n;
+        }
+    }
+    return p;
+}();
+
+/// As the AVX-512 scan_cylinder above (same contract), four records at a time.
+template <PackedFloatRecord R>
+std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ray, double r2, double* t,
+                            double* distance2, std::uint32_t* offset) {
+    const float* const floats = reinterpret_cast<const float*>(records);
+    const __m256d ox = _mm256_set1_pd(ray.origin.x), oy = _mm256_set1_pd(ray.origin.y), oz = _mm256_set1_pd(ray.origin.z);
+    const __m256d ux = _mm256_set1_pd(ray.direction.x), uy = _mm256_set1_pd(ray.direction.y),
+                  uz = _mm256_set1_pd(ray.direction.z);
+    const __m256d zero = _mm256_setzero_pd(), t_max = _mm256_set1_pd(ray.t_max), radius2 = _mm256_set1_pd(r2);
+    std::uint32_t n = 0;
+    for (std::uint32_t k = 0; k < count; k += 4) {
+        const std::uint32_t left = count - k;
+        const float* const p = floats + 4 * std::size_t{k};
+        // One record per 16-byte load; past the run's end, zeros (never read), masked out below.
+        const __m128 rec0 = _mm_loadu_ps(p);
+        const __m128 rec1 = left > 1 ? _mm_loadu_ps(p + 4) : _mm_setzero_ps();
+        const __m128 rec2 = left > 2 ? _mm_loadu_ps(p + 8) : _mm_setzero_ps();
+        const __m128 rec3 = left > 3 ? _mm_loadu_ps(p + 12) : _mm_setzero_ps();
+        const int valid = left >= 4 ? 0xf : (1 << left) - 1;
+        const __m128 xy01 = _mm_unpacklo_ps(rec0, rec1), xy23 = _mm_unpacklo_ps(rec2, rec3);  // x0 x1 y0 y1, x2 x3 y2 y3
+        const __m128 zw01 = _mm_unpackhi_ps(rec0, rec1), zw23 = _mm_unpackhi_ps(rec2, rec3);  // z0 z1 w0 w1, z2 z3 w2 w3
+        const __m256d x = _mm256_cvtps_pd(_mm_movelh_ps(xy01, xy23));
+        const __m256d y = _mm256_cvtps_pd(_mm_movehl_ps(xy23, xy01));
+        const __m256d z = _mm256_cvtps_pd(_mm_movelh_ps(zw01, zw23));
+        // in_cylinder: d = p - o, t = d . u, perp = d - t u, distance2 = perp . perp
+        // (glm's dot sums x, y, z left to right, as here).
+        const __m256d dx = x - ox, dy = y - oy, dz = z - oz;
+        const __m256d tt = dx * ux + dy * uy + dz * uz;
+        const __m256d px = dx - tt * ux, py = dy - tt * uy, pz = dz - tt * uz;
+        const __m256d d2 = px * px + py * py + pz * pz;
+        const __m256d inside = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(tt, zero, _CMP_GE_OQ), _mm256_cmp_pd(tt, t_max, _CMP_LE_OQ)),
+                                             _mm256_cmp_pd(d2, radius2, _CMP_LE_OQ));
+        const int m = _mm256_movemask_pd(inside) & valid;
+        const __m256i pack = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack.doubles[m].data()));
+        _mm256_storeu_pd(t + n, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tt), pack)));
+        _mm256_storeu_pd(distance2 + n, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(d2), pack)));
+        const __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(kPack.lanes[m].data()));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(offset + n), _mm_add_epi32(lanes, _mm_set1_epi32(static_cast<int>(k))));
+        n += static_cast<std::uint32_t>(__builtin_popcount(static_cast<unsigned>(m)));
+    }
+    return n;
+}
 #endif
 
 }  // namespace secchi::detail

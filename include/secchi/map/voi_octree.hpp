@@ -51,11 +51,13 @@
 // Software prefetching of the children and a depth-first node layout were tried and measured
 // no faster. Changing the leaf size reorders the records, so sums over hits change in their
 // last bits (not in value beyond rounding).
-// Where the target has AVX-512 (F and VL; the benchmarks' -march=native build here), the leaf
-// scan of CompactRecords is map/cylinder_scan.hpp's: eight records per vector, the accepted
-// ones packed by register compresses, for chunks of any length (no scalar path for short
-// ones); search only, about 1.15 times the rays/s of the loops below (BENCHMARKS.md, sixth
-// session), with the same hits and values. Otherwise:
+// Where the target has AVX-512 (F and VL) or AVX2 and FMA (the benchmarks' -march=native
+// build), the leaf scan of CompactRecords is map/cylinder_scan.hpp's: eight (AVX-512) or four
+// (AVX2) records per step, the accepted ones packed by register compresses or a table-driven
+// permute, for chunks of any length (no scalar path for short ones), with the same hits and
+// values. Search only, against the loops below: about 1.15 times the rays/s with AVX-512 on a
+// Zen 4 (BENCHMARKS.md, sixth session) and about 1.1 times with AVX2 on a Zen 3 (seventh
+// session). Otherwise:
 // the leaf scan (filter(), measure()) computes in_cylinder's double arithmetic in loops the
 // compiler vectorises (two records per SSE2 register) for chunks of 32 records or more: at
 // leaf size 128 about 1.1 times the rays/s of testing one record at a time (tune suite,
@@ -353,7 +355,7 @@ private:
     __attribute__((noinline))
 #endif
     std::uint32_t filter(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
-#if SECCHI_HAS_AVX512_SCAN
+#if SECCHI_HAS_CYLINDER_SCAN
         if constexpr (detail::PackedFloatRecord<Record>)
             return detail::scan_cylinder(records_.data() + begin, end - begin, ray, r2, chunk.t.data(),
                                          chunk.distance2.data(), chunk.accepted.data());
