@@ -6,7 +6,7 @@
 # machine, date and commands), secchi_bench.json, scaling.csv and scaling.svg (the log-log
 # plot, drawn by bench/plot_scaling.py with python3's standard library).
 # Benchmarks are never part of the test command; on the 2-core machine the full run takes
-# about 4 minutes (--quick: about 1).
+# about 4-6 minutes (--quick: about 1).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 build="${1:-build}"
@@ -16,6 +16,11 @@ for a in "$@"; do [[ "$a" == "--quick" ]] && quick="--quick"; done
 mkdir -p "$out"
 md="$out/results.md"
 cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
+# A virtual machine may name only the vendor ("AMD EPYC"): family and model tell the generation
+# (AMD family 25: model 0-15 Zen 3, 16-31 and 96-127 Zen 4), and the SIMD flags which kernels run.
+family="$(grep -m1 '^cpu family' /proc/cpuinfo | cut -d: -f2 | tr -d ' ')"
+model="$(grep -m1 '^model[[:space:]]*:' /proc/cpuinfo | cut -d: -f2 | tr -d ' ')"
+simd="$(grep -m1 '^flags' /proc/cpuinfo | tr ' ' '\n' | grep -E '^(avx2|fma|avx512f|avx512vl)$' | tr '\n' ' ' | sed 's/ $//')"
 
 run() {  # run CMD...: echo the command into the markdown, then append its tables
     echo "Command: \`$*\`" >>"$md"
@@ -30,7 +35,7 @@ run() {  # run CMD...: echo the command into the markdown, then append its table
 {
     echo "## Search structures and collection ($(date -u +%Y-%m-%d))"
     echo
-    echo "Machine: \`nproc\` = $(nproc), CPU \"$cpu\" (/proc/cpuinfo), $(uname -sr), compiler $(c++ --version | head -1)."
+    echo "Machine: \`nproc\` = $(nproc), CPU \"$cpu\" (/proc/cpuinfo: family $family, model $model; ${simd:-no AVX2}), $(uname -sr), compiler $(c++ --version | head -1)."
     native="$(grep -s '^SECCHI_BENCH_NATIVE:' "$build/CMakeCache.txt" | cut -d= -f2 || true)"
     echo "Benchmarks built with SECCHI_BENCH_NATIVE=${native:-ON} (ON: -march=native where accepted)."
     echo "Run with \`bash bench/run_all.sh $*\`. Timings are medians of repeated runs with the spread [min-max];"
