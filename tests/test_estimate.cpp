@@ -235,6 +235,25 @@ TEST_CASE("Vertical rays through a compact map in stratified water: per-componen
                         rays_every_way(1.0));
 }
 
+TEST_CASE("The estimator refuses fewer batches than the map has, and too short a sum array") {
+    const HenyeyGreensteinPhase hg(0.9);
+    const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
+    const auto map = compact_map(water, 2000);
+    REQUIRE(map.batches >= 2);
+    const VoiOctreeStore<CompactRecord> voi(map.records);
+    const HomogeneousRayOptics optics(ConeAveragedPhase(hg, 0.005), water.attenuation());
+    using Catch::Matchers::Contains;
+    // A photon of the last batch would be summed outside the estimator's sums.
+    CHECK_THROWS_WITH(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches - 1, Radius(0.1)),
+                      Contains("batches") && Contains(std::to_string(map.batches - 1)) &&
+                          Contains("batch index " + std::to_string(map.batches - 1)));
+    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, 1.0, map.batches, Radius(0.1));
+    const Ray ray{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, 4.0};
+    std::vector<double> short_sums(map.batches - 1, 0.0), sums(map.batches, 0.0);
+    CHECK_THROWS_WITH(est.accumulate(ray, short_sums), Contains("batch_sums size"));
+    CHECK(est.accumulate(ray, sums) > 0);
+}
+
 TEST_CASE("StratifiedRayOptics needs one cone per scattering component, and says so") {
     const DepthProfile profile{{0.0, 20.0}, {0.1, 0.1}, {{0.5, 0.3}, {0.05, 0.2}}};
     const StratifiedWater<HenyeyGreensteinPhase> water(profile, {HenyeyGreensteinPhase(0.9), HenyeyGreensteinPhase(0.3)});

@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <ranges>
 #include <span>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -188,13 +189,23 @@ public:
         : store_(store), volume_(std::move(volume)), optics_(std::move(optics)), flux_(flux_per_photon),
           batches_(batches), radius_(radius) {
         require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
+        // Every photon's batch must have its sum: a batch index >= batches would be summed
+        // outside batch_sums (once per store, O(N), far below the store's own build).
+        unsigned highest = 0;
+        for (const auto& rec : store.records()) highest = std::max<unsigned>(highest, rec.batch());
+        require(highest < batches, "batches", batches,
+                "is fewer than the map's: a stored photon has batch index " + std::to_string(highest) +
+                    " (pass the map's TransportResult::batches)");
     }
 
     static constexpr unsigned max_batches = 256;  ///< as TransportSettings allows
 
     /// Adds the per-batch photon sums of one ray (light arriving at ray.origin travelling
-    /// opposite to ray.direction) to batch_sums; returns the photons touched.
+    /// opposite to ray.direction) to batch_sums (at least `batches` entries); returns the
+    /// photons touched.
     std::uint64_t accumulate(const Ray& ray, std::span<double> batch_sums) const {
+        require(batch_sums.size() >= batches_, "batch_sums size", batch_sums.size(),
+                "must hold one sum per batch (the estimator's batches)");
         if constexpr (PolarCodedRecord<Record> && CodedRayOptics<Optics>)
             if (detail::is_vertical(ray)) return accumulate_coded(ray, batch_sums);
         return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
