@@ -69,11 +69,12 @@ private:
 /// to a record inside, so no record with dot(d, d) <= r^2 is pruned.
 inline double pruning_radius2(double r2) { return r2 * (1.0 + 1e-9); }
 
-/// Radius by which to pad boxes for along() pruning. in_cylinder computes
-/// dist^2 = |d|^2 - t^2: cancellation loses up to ~10 ulp of |d|^2, where |d| <= t_max + r for
-/// an accepted record, and a direction off unit length by delta shifts dist^2 by up to
-/// 2 delta t^2 and t by delta t. The pad covers both with a wide margin (1e-13 |d|^2 and
-/// 1e-9 |d|), plus the rounding of the slab test itself.
+/// Radius by which to pad boxes for along() pruning. in_cylinder computes dist^2 = |perp|^2
+/// with perp = d - t u (store.hpp): each component of perp is off by a few ulp of |d| (d and
+/// t u are of that size), where |d| <= t_max + r for an accepted record, so the distance is
+/// off by ~1e-15 |d| (with or without fused multiply-adds); and a direction off unit length
+/// by delta shifts dist^2 by up to 2 delta t^2 and t by delta t. The pad covers both with a
+/// wide margin (1e-13 |d|^2 and 1e-9 |d|), plus the rounding of the slab test itself.
 inline double pruning_pad(const Ray& ray, double r2) {
     const double len = ray.t_max + std::sqrt(r2);
     const double off_unit = std::abs(glm::dot(ray.direction, ray.direction) - 1.0);
