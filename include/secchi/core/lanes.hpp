@@ -33,6 +33,9 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 
 namespace secchi::lanes {
 
@@ -73,9 +76,12 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
 /// uniform_from_bits(philox_block(block_l, stream_l, key)[k]) exactly (tests/test_lane_tracer.cpp).
 /// With AVX-512DQ (a 64-bit multiply per lane) the rounds run on vectors of 64-bit words,
 /// each holding a 32-bit word, and a word becomes a double as (2^52 + word) - 2^52 (1.10x
-/// LaneTracer's speed); elsewhere a loop of philox_block over the lanes, which GCC vectorises
-/// with its 32 x 32 -> 64-bit multiplies (the vector rounds, with a 64-bit multiply made of
-/// three, measured 1.06x slower with SSE2 and 1.08x with AVX2).
+/// LaneTracer's speed). With AVX2 the same rounds run on 256-bit vectors with vpmuludq, the
+/// 32 x 32 -> 64-bit multiply, as the one multiply each needs: LaneTracer 1.18x on a Zen 3
+/// (BENCHMARKS.md, seventh session); written through std::experimental::simd, GCC makes each
+/// a 64-bit multiply of three instructions and the rounds were 1.08x slower than the loop below.
+/// Elsewhere a loop of philox_block over the lanes, which GCC vectorises with its
+/// 32 x 32 -> 64-bit multiplies (the vector rounds measured 1.06x slower with SSE2).
 /// The lanes' block and stream numbers are read from `block` and `stream`, the uniforms
 /// written to u[0..3] (arrays of lane_width doubles, vector-aligned).
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, std::array<std::uint32_t, 2> key,
@@ -95,6 +101,31 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
     for (int k = 0; k < 4; ++k) {
         const Reals word = stdx::__proposed::simd_bit_cast<Reals>(x[k] | Words(0x4330000000000000ull)) - 0x1p52;
         ((word + 0.5) * 0x1p-32).copy_to(u[k], aligned);
+    }
+#elif defined(__AVX2__)
+    // The same rounds, four lanes per 256-bit vector: every multiply has both factors below
+    // 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction.
+    const __m256i lo32 = _mm256_set1_epi64x(0xffffffffll), m0 = _mm256_set1_epi64x(0xD2511F53ll),
+                  m1 = _mm256_set1_epi64x(0xCD9E8D57ll), exponent = _mm256_set1_epi64x(0x4330000000000000ll);
+    for (int g = 0; g < lane_width; g += 4) {
+        const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block + g));
+        const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stream + g));
+        __m256i x[4] = {_mm256_and_si256(b, lo32), _mm256_srli_epi64(b, 32), _mm256_and_si256(i, lo32),
+                        _mm256_srli_epi64(i, 32)};
+        std::array<std::uint32_t, 2> k = key;
+        for (int round = 0; round < 10; ++round) {
+            const __m256i p0 = _mm256_mul_epu32(x[0], m0), p1 = _mm256_mul_epu32(x[2], m1);
+            x[0] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), x[1]), _mm256_set1_epi64x(k[0]));
+            x[1] = _mm256_and_si256(p1, lo32);
+            x[2] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), x[3]), _mm256_set1_epi64x(k[1]));
+            x[3] = _mm256_and_si256(p0, lo32);
+            k[0] += 0x9E3779B9u;
+            k[1] += 0xBB67AE85u;
+        }
+        for (int w = 0; w < 4; ++w) {
+            const __m256d word = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(x[w], exponent)), _mm256_set1_pd(0x1p52));
+            _mm256_store_pd(u[w] + g, _mm256_mul_pd(_mm256_add_pd(word, _mm256_set1_pd(0.5)), _mm256_set1_pd(0x1p-32)));
+        }
     }
 #else
     for (int l = 0; l < lane_width; ++l) {
