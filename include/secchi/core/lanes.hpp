@@ -107,6 +107,7 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
     // 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction.
     const __m256i lo32 = _mm256_set1_epi64x(0xffffffffll), m0 = _mm256_set1_epi64x(0xD2511F53ll),
                   m1 = _mm256_set1_epi64x(0xCD9E8D57ll), exponent = _mm256_set1_epi64x(0x4330000000000000ll);
+    static_assert(lane_width % 4 == 0, "with AVX2 the lanes are 4 doubles (or 8, AVX-512F without DQ)");
     for (int g = 0; g < lane_width; g += 4) {
         const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block + g));
         const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stream + g));
