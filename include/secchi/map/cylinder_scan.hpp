@@ -57,6 +57,19 @@ concept PackedFloatRecord = std::is_standard_layout_v<R> && sizeof(R) == 16 && r
 /// Spare entries the output arrays need past the last accepted record (one vector).
 inline constexpr std::uint32_t kScanSlack = 8;
 
+/// in_cylinder's arithmetic (store.hpp) on vectors of doubles V, in its order, for both
+/// kernels: d = p - o, t = d . u, perp = d - t u, distance2 = perp . perp (glm's dot sums x,
+/// y, z left to right, as here). o and u: the ray's origin and direction, each component
+/// broadcast to every lane. (V is deduced: GCC warns where an intrinsic vector type, with its
+/// may_alias attribute, is named as a template argument.)
+template <class V>
+inline void cylinder_lanes(const V& x, const V& y, const V& z, const V (&o)[3], const V (&u)[3], V& t, V& distance2) {
+    const V dx = x - o[0], dy = y - o[1], dz = z - o[2];
+    t = dx * u[0] + dy * u[1] + dz * u[2];
+    const V px = dx - t * u[0], py = dy - t * u[1], pz = dz - t * u[2];
+    distance2 = px * px + py * py + pz * pz;
+}
+
 #if SECCHI_CYLINDER_SCAN_AVX512
 // GCC 12's AVX-512 intrinsics warn about their own deliberately undefined vectors where they
 // are inlined (GCC bug 105593, fixed in GCC 13; as in core/lanes.hpp): silenced for this function.
@@ -77,9 +90,9 @@ std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ra
     const __m512i pick_x = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 0, 0, 0, 0, 0, 0, 0);
     const __m512i pick_y = _mm512_add_epi32(pick_x, _mm512_set1_epi32(1));
     const __m512i pick_z = _mm512_add_epi32(pick_x, _mm512_set1_epi32(2));
-    const __m512d ox = _mm512_set1_pd(ray.origin.x), oy = _mm512_set1_pd(ray.origin.y), oz = _mm512_set1_pd(ray.origin.z);
-    const __m512d ux = _mm512_set1_pd(ray.direction.x), uy = _mm512_set1_pd(ray.direction.y),
-                  uz = _mm512_set1_pd(ray.direction.z);
+    const __m512d o[3] = {_mm512_set1_pd(ray.origin.x), _mm512_set1_pd(ray.origin.y), _mm512_set1_pd(ray.origin.z)};
+    const __m512d u[3] = {_mm512_set1_pd(ray.direction.x), _mm512_set1_pd(ray.direction.y),
+                          _mm512_set1_pd(ray.direction.z)};
     const __m512d zero = _mm512_setzero_pd(), t_max = _mm512_set1_pd(ray.t_max), radius2 = _mm512_set1_pd(r2);
     const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     std::uint32_t n = 0;
@@ -101,12 +114,8 @@ std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ra
         const __m512d x = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(a, pick_x, b)));
         const __m512d y = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(a, pick_y, b)));
         const __m512d z = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(a, pick_z, b)));
-        // in_cylinder: d = p - o, t = d . u, perp = d - t u, distance2 = perp . perp
-        // (glm's dot sums x, y, z left to right, as here).
-        const __m512d dx = x - ox, dy = y - oy, dz = z - oz;
-        const __m512d tt = dx * ux + dy * uy + dz * uz;
-        const __m512d px = dx - tt * ux, py = dy - tt * uy, pz = dz - tt * uz;
-        const __m512d d2 = px * px + py * py + pz * pz;
+        __m512d tt, d2;
+        cylinder_lanes(x, y, z, o, u, tt, d2);
         const __mmask8 inside = valid & _mm512_cmp_pd_mask(tt, zero, _CMP_GE_OQ) &
                                 _mm512_cmp_pd_mask(tt, t_max, _CMP_LE_OQ) & _mm512_cmp_pd_mask(d2, radius2, _CMP_LE_OQ);
         _mm512_storeu_pd(t + n, _mm512_maskz_compress_pd(inside, tt));
@@ -150,9 +159,9 @@ template <PackedFloatRecord R>
 std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ray, double r2, double* t,
                             double* distance2, std::uint32_t* offset) {
     const float* const floats = reinterpret_cast<const float*>(records);
-    const __m256d ox = _mm256_set1_pd(ray.origin.x), oy = _mm256_set1_pd(ray.origin.y), oz = _mm256_set1_pd(ray.origin.z);
-    const __m256d ux = _mm256_set1_pd(ray.direction.x), uy = _mm256_set1_pd(ray.direction.y),
-                  uz = _mm256_set1_pd(ray.direction.z);
+    const __m256d o[3] = {_mm256_set1_pd(ray.origin.x), _mm256_set1_pd(ray.origin.y), _mm256_set1_pd(ray.origin.z)};
+    const __m256d u[3] = {_mm256_set1_pd(ray.direction.x), _mm256_set1_pd(ray.direction.y),
+                          _mm256_set1_pd(ray.direction.z)};
     const __m256d zero = _mm256_setzero_pd(), t_max = _mm256_set1_pd(ray.t_max), radius2 = _mm256_set1_pd(r2);
     std::uint32_t n = 0;
     for (std::uint32_t k = 0; k < count; k += 4) {
@@ -169,12 +178,8 @@ std::uint32_t scan_cylinder(const R* records, std::uint32_t count, const Ray& ra
         const __m256d x = _mm256_cvtps_pd(_mm_movelh_ps(xy01, xy23));
         const __m256d y = _mm256_cvtps_pd(_mm_movehl_ps(xy23, xy01));
         const __m256d z = _mm256_cvtps_pd(_mm_movelh_ps(zw01, zw23));
-        // in_cylinder: d = p - o, t = d . u, perp = d - t u, distance2 = perp . perp
-        // (glm's dot sums x, y, z left to right, as here).
-        const __m256d dx = x - ox, dy = y - oy, dz = z - oz;
-        const __m256d tt = dx * ux + dy * uy + dz * uz;
-        const __m256d px = dx - tt * ux, py = dy - tt * uy, pz = dz - tt * uz;
-        const __m256d d2 = px * px + py * py + pz * pz;
+        __m256d tt, d2;
+        cylinder_lanes(x, y, z, o, u, tt, d2);
         const __m256d inside = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(tt, zero, _CMP_GE_OQ), _mm256_cmp_pd(tt, t_max, _CMP_LE_OQ)),
                                              _mm256_cmp_pd(d2, radius2, _CMP_LE_OQ));
         const int m = _mm256_movemask_pd(inside) & valid;
