@@ -55,9 +55,8 @@
 // build), the leaf scan of CompactRecords is map/cylinder_scan.hpp's: eight (AVX-512) or four
 // (AVX2) records per step, the accepted ones packed by register compresses or a table-driven
 // permute, for chunks of any length (no scalar path for short ones), with the same hits and
-// values. Search only, against the loops below: about 1.15 times the rays/s with AVX-512 on a
-// Zen 4 (BENCHMARKS.md, sixth session) and about 1.1 times with AVX2 on a Zen 3 (seventh
-// session). Otherwise:
+// values. Search only, against the loops below: about 1.15 times the rays/s, with AVX-512 on
+// a Zen 4 and with AVX2 on a Zen 3 alike (BENCHMARKS.md, sixth and seventh sessions). Otherwise:
 // the leaf scan (filter(), measure()) computes in_cylinder's double arithmetic in loops the
 // compiler vectorises (two records per SSE2 register) for chunks of 32 records or more: at
 // leaf size 128 about 1.1 times the rays/s of testing one record at a time (tune suite,
