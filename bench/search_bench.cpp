@@ -137,18 +137,10 @@ struct Collected {
     Estimate lu;
 };
 
-/// The radiance estimator of the collection tables: `volume` in `store` at `radius`.
-template <class Store, class Volume>
-auto estimator(const Store& store, const Volume& volume, const Cone& cone, const TransportResult<CompactRecord>& map,
-               double radius) {
-    return PathRadianceEstimator(store, volume, HomogeneousRayOptics(cone, 1.0), map.flux_per_map_photon, map.batches,
-                                 Radius(radius));
-}
-
 template <class Store, class Volume>
 Collected collect(const Options& o, const Store& store, const Volume& volume, const Cone& cone,
                   const TransportResult<CompactRecord>& map, const std::vector<Ray>& rays, double radius) {
-    const auto est = estimator(store, volume, cone, map, radius);
+    const auto est = radiance_estimator(store, volume, cone, map.flux_per_map_photon, map.batches, radius);
     RadianceEstimate r;
     const Timing t = time_runs(o.repeats, [&] { r = est.estimate(rays, 1); });
     return {t, rays.size() / t.median, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
@@ -236,8 +228,8 @@ void suite_collect(const Options& o) {
         const double rc = r * std::sqrt(k[i].photons_per_ray / v.photons_per_ray);
         const auto c = collect(o, voi, VoiCylinder{}, cone, map, rays, rc);
         const auto cs = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
-        const auto kd_est = estimator(kd, StepSpheres(ns[i]), cone, map, r);
-        const auto voi_est = estimator(voi, VoiCylinder{}, cone, map, rc);
+        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.flux_per_map_photon, map.batches, r);
+        const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rc);
         const Timing paired = paired_ratio(o.repeats, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); });
         const double rn = r * std::cbrt(v.photons_per_ray / k[i].photons_per_ray);
         const auto kw = collect(o, kd, StepSpheres(ns[i]), cone, map, rays, rn);

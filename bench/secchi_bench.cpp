@@ -56,16 +56,10 @@ struct CollectionFigures {
     Estimate lu;
 };
 
-/// The radiance estimator of the collection figures: `volume` in `store` at `radius`.
-template <class Store, class Volume, class Cone>
-auto estimator(const Store& store, const Volume& volume, const Cone& cone, double flux, unsigned batches, double radius) {
-    return PathRadianceEstimator(store, volume, HomogeneousRayOptics(cone, 1.0), flux, batches, Radius(radius));
-}
-
 template <class Store, class Volume, class Cone>
 CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, double flux, unsigned batches,
                           const std::vector<Ray>& rays, unsigned threads, int repeats, double radius = 0.05) {
-    const auto est = estimator(store, volume, cone, flux, batches, radius);
+    const auto est = radiance_estimator(store, volume, cone, flux, batches, radius);
     RadianceEstimate r;
     const double t = time_runs(repeats, [&] { r = est.estimate(rays, threads); }).median;
     return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
@@ -183,8 +177,8 @@ int main(int argc, char** argv) {
         // The speed-ups are paired (bench_timing.hpp's paired_ratio): 7 rounds, each timing the
         // k-d tree's estimate and then the cylinder's; the median of the rounds' ratios.
         auto speedup_vs_kd32 = [&](double voi_radius) {
-            const auto kd_est = estimator(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, 0.05);
-            const auto voi_est = estimator(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, voi_radius);
+            const auto kd_est = radiance_estimator(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, 0.05);
+            const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, voi_radius);
             return paired_ratio(7, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); }).median;
         };
         fig["voi_speedup_vs_kd32"] = speedup_vs_kd32(0.05);
