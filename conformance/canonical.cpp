@@ -28,7 +28,7 @@ namespace {
 
 using namespace secchi;
 
-constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all [--photons N] --store kdtree|voi --seed S
+constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all [--photons N] --store kdtree|voi|voi-grid --seed S
                  --threads T --json FILE [--exr FILE] [--quick] [--material FILE] [--profile-csv FILE]
                  [--tracer photon|lanes]
 Runs Mobley et al. 1993 problems 1, 2 and 3 (sun at 60 deg, flat surface n = 1.34, black sky,

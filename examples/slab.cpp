@@ -13,7 +13,7 @@ namespace {
 
 constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
             --sun-zenith DEG --water-index N [--bottom-depth TAU --bottom-albedo A]
-            --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi
+            --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi|voi-grid
             [--radius R] [--steps K] --json FILE
 Depths and lengths are optical (c = 1 /m). Defaults:
   --phase petzold  --albedo 0.9  --sun-zenith 60  --water-index 1.34 (1.0: no interface)

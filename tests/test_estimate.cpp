@@ -65,7 +65,7 @@ TEST_CASE("Rayleigh single scattering: p(pi) = 3/(8 pi)") {
     CHECK(std::abs(d.lu.value - exact) <= 4 * d.lu.se);
 }
 
-TEST_CASE("k-d tree spheres, nanoflann spheres and brute force agree on identical maps") {
+TEST_CASE("k-d tree spheres, nanoflann spheres, the VOI stores and brute force agree on identical maps") {
     // Same photons, same spheres: the sums differ only by the order of addition.
     auto cfg = single_scattering_config(StoreKind::kdtree);
     cfg.transport.photons = cfg.transport.map_photons = 20000;
@@ -81,9 +81,13 @@ TEST_CASE("k-d tree spheres, nanoflann spheres and brute force agree on identica
     const auto c = solve_plane_parallel(IsotropicPhase{}, cfg);
     cfg.store = StoreKind::brute_force;  // brute force uses the cylinder too
     const auto d = solve_plane_parallel(IsotropicPhase{}, cfg);
+    cfg.store = StoreKind::voi_grid;
+    const auto e = solve_plane_parallel(IsotropicPhase{}, cfg);
     for (std::size_t i = 0; i < c.depths.size(); ++i) {
         CHECK(c.depths[i].lu.value == Approx(d.depths[i].lu.value).epsilon(1e-9));
         CHECK(c.depths[i].photons_touched == d.depths[i].photons_touched);
+        CHECK(e.depths[i].lu.value == Approx(d.depths[i].lu.value).epsilon(1e-9));
+        CHECK(e.depths[i].photons_touched == d.depths[i].photons_touched);
     }
 }
 

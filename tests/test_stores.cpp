@@ -4,6 +4,7 @@
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
+#include "secchi/map/voi_grid.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include <algorithm>
 #include <bit>
@@ -219,7 +220,7 @@ static_assert(PhotonStore<VoiOctreeStore<CompactRecord>> && PhotonStore<VoiOctre
 
 #define SECCHI_ALL_STORES                                                                                          \
     KdTreeStore<CompactRecord>, KdTreeStore<FullRecord>, NanoflannStore<CompactRecord>, NanoflannStore<FullRecord>, \
-        VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>
+        VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, VoiGridStore<CompactRecord>, VoiGridStore<FullRecord>
 
 TEMPLATE_TEST_CASE("within and along report exactly the brute-force records", "[stores]", SECCHI_ALL_STORES) {
     using Record = typename TestType::record_type;
@@ -395,17 +396,22 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     const KdTreeStore<CompactRecord> kd(records);
     const NanoflannStore<CompactRecord> nano(records);
     const VoiOctreeStore<CompactRecord> octree(records);
+    const VoiGridStore<CompactRecord> grid(records, Radius(0.02));
     WARN("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
                                        << ", VOI octree " << per_photon(octree.memory_bytes()) << " ("
-                                       << octree.node_count() << " nodes)");
+                                       << octree.node_count() << " nodes), VOI grid for r = 0.02 "
+                                       << per_photon(grid.memory_bytes()));
     REQUIRE(kd.memory_bytes() == n * sizeof(CompactRecord));  // the split axes live in the records
     REQUIRE(sizeof(CompactRecord) == 16);
     REQUIRE(nano.memory_bytes() > n * sizeof(CompactRecord));
     REQUIRE(octree.memory_bytes() > n * sizeof(CompactRecord));
+    // 4 bytes per cell, at most max_cells_per_record cells per record.
+    REQUIRE(grid.memory_bytes() <= n * (sizeof(CompactRecord) + 4 * VoiGridStore<CompactRecord>::max_cells_per_record) + 4);
 }
 
 TEMPLATE_TEST_CASE("concurrent queries from 2 threads match sequential ones", "[stores][threads]",
-                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, VoiOctreeStore<CompactRecord>) {
+                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, VoiOctreeStore<CompactRecord>,
+                   VoiGridStore<CompactRecord>) {
     const TestType store(make_records<CompactRecord>(Layout::clustered, 20000, 81));
     const auto queries = make_queries(Layout::clustered, 100, 82);
     // Every hit of every query, in reporting order (the order is part of the contract).
@@ -470,44 +476,107 @@ TEST_CASE("VOI octree: bulk-accepted subtrees report the oracle's records in rec
     }
 }
 
+/// The oracle for a VOI store's along(): in_cylinder over records() in index order. The leaf
+/// scan computes t and distance2 in SIMD or vectorised loops over chunks padded to whole
+/// vectors (or one record at a time for short chunks), bulk ranges in scalar code: every hit
+/// must carry in_cylinder's values bit for bit, in this order.
+template <class Store>
+void require_in_cylinder_values(const Store& store, const std::vector<Query>& queries, const std::string& what) {
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+        const Query& q = queries[i];
+        CollectAll want;
+        for (std::uint32_t k = 0; k < store.size(); ++k) {
+            Hit hit{k, 0.0, 0.0};
+            if (in_cylinder(q.ray, store.records()[k].position(), q.r * q.r, hit)) want.hits.push_back(hit);
+        }
+        CollectAll got;
+        store.along(q.ray, Radius(q.r), got);
+        INFO(what << " query " << i << " r " << q.r);
+        REQUIRE(got.hits.size() == want.hits.size());
+        for (std::size_t k = 0; k < got.hits.size(); ++k) {
+            REQUIRE(got.hits[k].index == want.hits[k].index);
+#if defined(__FP_FAST_FMA)  // the compiler may fuse a * b + c differently in the two codes
+            REQUIRE(close(got.hits[k].t, want.hits[k].t));
+            REQUIRE(close(got.hits[k].distance2, want.hits[k].distance2));
+#else
+            REQUIRE(std::bit_cast<std::uint64_t>(got.hits[k].t) == std::bit_cast<std::uint64_t>(want.hits[k].t));
+            REQUIRE(std::bit_cast<std::uint64_t>(got.hits[k].distance2) ==
+                    std::bit_cast<std::uint64_t>(want.hits[k].distance2));
+#endif
+        }
+    }
+}
+
+/// Random queries, plus two that reach whole subtrees (bulk) and long scans.
+std::vector<Query> exact_value_queries() {
+    auto queries = make_queries(Layout::uniform, 60, 112);
+    queries.push_back({vec3(0.5), Ray{vec3(0.5, 0.5, -1.0), vec3(0, 0, 1), 5.0}, 0.3});
+    queries.push_back({vec3(0.5), Ray{vec3(-1.0, -1.0, -1.0), glm::normalize(vec3(1, 1, 2)), 6.0}, 2.0});
+    return queries;
+}
+
 TEMPLATE_TEST_CASE("VOI octree along reports in_cylinder's t and distance2 exactly, in record order", "[stores][octree]",
                    FullRecord, CompactRecord) {
-    // The oracle: in_cylinder over records() in index order. The leaf scan computes t and
-    // distance2 in vectorised loops over chunks padded to whole vectors (or one record at a
-    // time for short chunks), bulk ranges in scalar code: every hit must carry in_cylinder's
-    // values bit for bit, in this order.
     // 5037 = 78 * 64 + 45 records: with leaf size 6000, one leaf whose last chunk (45
     // records, vectorised) ends at the last record, where the padding must stop short.
     const auto records = make_records<TestType>(Layout::uniform, 5037, 111);
-    for (const std::size_t leaf : {1u, 5u, 43u, 128u, 6000u}) {
-        const VoiOctreeStore<TestType> store(records, leaf);
-        auto queries = make_queries(Layout::uniform, 60, 112);
-        queries.push_back({vec3(0.5), Ray{vec3(0.5, 0.5, -1.0), vec3(0, 0, 1), 5.0}, 0.3});  // bulk and scans
-        queries.push_back({vec3(0.5), Ray{vec3(-1.0, -1.0, -1.0), glm::normalize(vec3(1, 1, 2)), 6.0}, 2.0});
-        for (std::size_t i = 0; i < queries.size(); ++i) {
-            const Query& q = queries[i];
-            CollectAll want;
-            for (std::uint32_t k = 0; k < store.size(); ++k) {
-                Hit hit{k, 0.0, 0.0};
-                if (in_cylinder(q.ray, store.records()[k].position(), q.r * q.r, hit)) want.hits.push_back(hit);
-            }
-            CollectAll got;
-            store.along(q.ray, Radius(q.r), got);
-            INFO("leaf " << leaf << " query " << i << " r " << q.r);
-            REQUIRE(got.hits.size() == want.hits.size());
-            for (std::size_t k = 0; k < got.hits.size(); ++k) {
-                REQUIRE(got.hits[k].index == want.hits[k].index);
-#if defined(__FP_FAST_FMA)  // the compiler may fuse a * b + c differently in the two codes
-                REQUIRE(close(got.hits[k].t, want.hits[k].t));
-                REQUIRE(close(got.hits[k].distance2, want.hits[k].distance2));
-#else
-                REQUIRE(std::bit_cast<std::uint64_t>(got.hits[k].t) == std::bit_cast<std::uint64_t>(want.hits[k].t));
-                REQUIRE(std::bit_cast<std::uint64_t>(got.hits[k].distance2) ==
-                        std::bit_cast<std::uint64_t>(want.hits[k].distance2));
-#endif
-            }
+    for (const std::size_t leaf : {1u, 5u, 43u, 128u, 6000u})
+        require_in_cylinder_values(VoiOctreeStore<TestType>(records, leaf), exact_value_queries(),
+                                   "leaf " + std::to_string(leaf));
+}
+
+TEMPLATE_TEST_CASE("VOI grid along reports in_cylinder's t and distance2 exactly, in record order", "[stores][grid]",
+                   FullRecord, CompactRecord) {
+    // Columns of every length: one record per cell, a few dozen, and the whole map in one
+    // cell (whose range ends at the last record, where the scan's padding must stop short).
+    const auto records = make_records<TestType>(Layout::uniform, 5037, 111);
+    for (const double width : {0.02, 0.1, 0.3, 5.0})
+        require_in_cylinder_values(VoiGridStore<TestType>(records, width, 2.0 * width), exact_value_queries(),
+                                   "column width " + std::to_string(width));
+}
+
+TEST_CASE("the VOI grid agrees with brute force for any cell shape", "[stores][grid]") {
+    for (const Layout layout : {Layout::uniform, Layout::clustered}) {
+        const auto records = make_records<FullRecord>(layout, 6000, 63);
+        // Automatic, too fine for the cell limit, flat, tall, one column, and sized for r.
+        const std::pair<double, double> shapes[] = {{0.0, 0.0}, {1e-4, 1e-4}, {0.05, 0.5}, {0.5, 0.02}, {5.0, 5.0}};
+        for (const auto& [width, height] : shapes) {
+            INFO("layout " << static_cast<int>(layout) << " column width " << width << " cell height " << height);
+            const VoiGridStore<FullRecord> store(records, width, height);
+            const auto cells = store.cells();
+            REQUIRE(static_cast<double>(cells[0] * cells[1] * cells[2]) <=
+                    VoiGridStore<FullRecord>::max_cells_per_record * static_cast<double>(records.size()) + 1.0);
+            if (width == 0.5) REQUIRE(store.cell_size().z == 0.02);  // as asked: within the limit
+            require_agreement(records, store, layout, 64);
         }
+        const VoiGridStore<FullRecord> sized(records, Radius(0.1));
+        REQUIRE(sized.cell_size().x == VoiGridStore<FullRecord>::column_width_per_radius * 0.1);
+        require_agreement(records, sized, layout, 65);
     }
+    const auto records = make_records<FullRecord>(Layout::uniform, 100, 66);
+    for (const double bad : {-0.1, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+        REQUIRE_THROWS_AS(VoiGridStore<FullRecord>(records, bad), input_error);
+        REQUIRE_THROWS_AS(VoiGridStore<FullRecord>(records, 0.1, bad), input_error);
+    }
+}
+
+TEST_CASE("VOI grid: along_stats counts the ranges and records a query scans", "[stores][grid]") {
+    const auto records = make_records<CompactRecord>(Layout::uniform, 20000, 67);
+    const VoiGridStore<CompactRecord> store(records, 0.05, 0.1);
+    // A vertical ray through the middle (depths 1 to 2 of the 3 m box): the columns within r
+    // of its axis, each cut over the cells of the ray's depths padded by r (1.2 m).
+    const Ray ray{{0.512, 0.487, 1.0}, {0.0, 0.0, 1.0}, 1.0};
+    const auto stats = store.along_stats(ray, Radius(0.05));
+    CountHits count;
+    store.along(ray, Radius(0.05), count);
+    REQUIRE(stats.hits == count.count);
+    REQUIRE(stats.hits > 0);
+    REQUIRE(stats.tested >= stats.hits);
+    // The disc of radius r = 0.05 around (0.512, 0.487) spans columns 9 to 11 in x and 8 to
+    // 10 in y: at most 9 ranges, each 0.05 x 0.05 x 1.2 m with 20000 / 3 records per m^3, 20
+    // records on average (180 in all; 300 is over 9 Poisson sigma above).
+    REQUIRE(stats.ranges <= 9);
+    REQUIRE(stats.tested < 300);
 }
 
 TEST_CASE("CylinderInterior accepts only boxes whose every point in_cylinder accepts", "[stores][bulk]") {

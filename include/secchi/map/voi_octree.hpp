@@ -73,7 +73,7 @@
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
-#include "secchi/map/cylinder_scan.hpp"
+#include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
 #include <array>
 #include <bit>
@@ -103,15 +103,6 @@ inline float float_above(double v) {
     const float f = static_cast<float>(v);
     return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
-
-/// A record whose position() is its three float members x, y, z (CompactRecord): a leaf scan
-/// copies them as floats (exact in double), a plain strided load the compiler vectorises.
-template <class R>
-concept FloatPositionRecord = requires(const R r) {
-    requires std::same_as<decltype(r.x), float>;
-    requires std::same_as<decltype(r.y), float>;
-    requires std::same_as<decltype(r.z), float>;
-};
 
 }  // namespace detail
 
@@ -210,7 +201,8 @@ private:
         // stream() then goes through the list, prefetching each range's records one range
         // ahead. Scanning streams ~5,000 records per ray from memory and is limited by it
         // (BENCHMARKS.md); the hits and their order are those of the one-phase walk.
-        WorkList work;
+        const detail::CylinderRanges<Record> ranges(records_);
+        typename detail::CylinderRanges<Record>::WorkList work;
         Stack stack;
         if (!nodes_.empty()) stack.push(0);
         while (!stack.empty()) {
@@ -225,193 +217,12 @@ private:
             }
             if constexpr (Profile) (whole ? stats.bulk : stats.tested) += node.end - node.begin;
             work.items[work.size++] = {node.begin, node.end, whole};
-            if (work.size == WorkList::capacity) {
-                if (!stream(work, ray, r2, collect)) return false;
+            if (work.size == work.items.size()) {
+                if (!ranges.stream(work, ray, r2, collect)) return false;
                 work.size = 0;
             }
         }
-        return stream(work, ray, r2, collect);
-    }
-
-    /// Record ranges queued by the walk: scan with the cylinder test, or report whole.
-    struct WorkList {
-        struct Range {
-            std::uint32_t begin, end;
-            bool whole;
-        };
-        static constexpr std::size_t capacity = 64;
-        std::array<Range, capacity> items;
-        std::size_t size = 0;
-    };
-
-    /// Hints the cache to fetch records [begin, end) (at most the first 4 KiB).
-    void prefetch(std::uint32_t begin, std::uint32_t end) const {
-#if defined(__GNUC__)
-        const char* p = reinterpret_cast<const char*>(records_.data() + begin);
-        const char* const stop = reinterpret_cast<const char*>(records_.data() + end);
-        for (const char* last = p + 4096; p < stop && p < last; p += 64) __builtin_prefetch(p);
-#else
-        (void)begin, (void)end;
-#endif
-    }
-
-    /// Reports the hits of the queued ranges in order, prefetching one range ahead: a bulk
-    /// range all its records, a scanned range (a leaf) those filter() accepts, in chunks of at
-    /// most Chunk::capacity records.
-    template <Collector C>
-    bool stream(const WorkList& work, const Ray& ray, double r2, C& collect) const {
-        if (work.size > 0) prefetch(work.items[0].begin, work.items[0].end);
-        Hit hit{};
-        for (std::size_t w = 0; w < work.size; ++w) {
-            if (w + 1 < work.size) prefetch(work.items[w + 1].begin, work.items[w + 1].end);
-            const auto& range = work.items[w];
-            if (range.whole) {
-                if (!report_all(ray, range.begin, range.end, collect)) return false;
-                continue;
-            }
-            for (std::uint32_t begin = range.begin; begin < range.end; begin += Chunk::capacity) {
-                const std::uint32_t end = std::min<std::uint32_t>(range.end, begin + Chunk::capacity);
-                Chunk chunk;
-                const std::uint32_t n = filter(begin, end, ray, r2, chunk);
-                for (std::uint32_t k = 0; k < n; ++k) {
-                    hit.index = begin + chunk.accepted[k];
-                    hit.t = chunk.t[k];
-                    hit.distance2 = chunk.distance2[k];
-                    if (!collect(hit)) return false;
-                }
-            }
-        }
-        return true;
-    }
-
-    /// One chunk of a range [begin, end): the records in_cylinder accepts, packed in order:
-    /// hit k is record begin + accepted[k] with in_cylinder's t[k] and distance2[k]. (measure()
-    /// first fills slot k with record begin + k's values; filter() packs them in place.)
-    struct Chunk {
-        static constexpr std::uint32_t capacity = 64;
-        /// Fewer records go through filter_scalar(): the vectorised loops' fixed cost per
-        /// chunk (three loops, the padding) pays back only over longer chunks (leaf size 8:
-        /// 0.9 times the rays/s with every chunk vectorised, and no gain at leaf size 32).
-        static constexpr std::uint32_t vector_minimum = 32;
-        std::array<double, capacity + detail::kScanSlack> t, distance2;
-        std::array<double, capacity> inside;
-        std::array<std::uint32_t, capacity + detail::kScanSlack> accepted;
-    };
-
-    /// in_cylinder's arithmetic over records [begin, end) (at most Chunk::capacity) into
-    /// chunk's slots, as plain loops over arrays that the compiler vectorises (SSE2: two
-    /// records per register): first the positions are copied into one array per axis, then
-    /// t, distance2 and the acceptance are computed for every slot without a branch. Each
-    /// lane does in_cylinder's operations in its order, so the values are its values, bit for
-    /// bit. (Testing the records one by one in scalar double, as before, was bound by the
-    /// floating-point ports: ~25 operations per record.) The loops run to a whole number of
-    /// 4-record vectors where the records exist, so that no scalar remainder loop runs
-    /// (leaves are 43 records on average); the extra slots are computed and ignored.
-    void measure(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
-        using Coordinate = std::conditional_t<detail::FloatPositionRecord<Record>, float, double>;
-        const Record* const records = records_.data() + begin;
-        const auto available = static_cast<std::uint32_t>(records_.size()) - begin;
-        const std::uint32_t lanes = std::min(((end - begin) + 3) & ~3u, available);
-        std::array<Coordinate, Chunk::capacity> xs, ys, zs;
-        for (std::uint32_t k = 0; k < lanes; ++k) {
-            if constexpr (detail::FloatPositionRecord<Record>) {
-                xs[k] = records[k].x;
-                ys[k] = records[k].y;
-                zs[k] = records[k].z;
-            } else {
-                const vec3 p = records[k].position();
-                xs[k] = p.x;
-                ys[k] = p.y;
-                zs[k] = p.z;
-            }
-        }
-        const double ox = ray.origin.x, oy = ray.origin.y, oz = ray.origin.z;
-        const double ux = ray.direction.x, uy = ray.direction.y, uz = ray.direction.z;
-        const double t_max = ray.t_max;
-        for (std::uint32_t k = 0; k < lanes; ++k) {
-            // in_cylinder: d = p - o, t = d . u, perp = d - t u, distance2 = perp . perp
-            // (glm's dot sums x, y, z left to right, as here).
-            const double dx = static_cast<double>(xs[k]) - ox, dy = static_cast<double>(ys[k]) - oy,
-                         dz = static_cast<double>(zs[k]) - oz;
-            const double t = dx * ux + dy * uy + dz * uz;
-            const double px = dx - t * ux, py = dy - t * uy, pz = dz - t * uz;
-            const double dist2 = px * px + py * py + pz * pz;
-            chunk.t[k] = t;
-            chunk.distance2[k] = dist2;
-            // A double flag (not bool or int) keeps the loop in one element width: it vectorises.
-            chunk.inside[k] = ((t >= 0.0) & (t <= t_max) & (dist2 <= r2)) ? 1.0 : 0.0;
-        }
-    }
-
-    /// The records of [begin, end) (at most Chunk::capacity) that in_cylinder accepts: their
-    /// slots in chunk.accepted, in order, without a branch per record (near the cylinder's
-    /// surface acceptance is a coin toss, which a branch would mispredict half the time): each
-    /// slot is written and the write position advances only if it is accepted. Returns the
-    /// count. Chunks of at least Chunk::vector_minimum records go through measure(), shorter
-    /// ones through filter_scalar(). Out of line, so its code does not depend on the
-    /// collector inlined around it.
-#if defined(__GNUC__)
-    __attribute__((noinline))
-#endif
-    std::uint32_t filter(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
-#if SECCHI_HAS_CYLINDER_SCAN
-        if constexpr (detail::PackedFloatRecord<Record>)
-            return detail::scan_cylinder(records_.data() + begin, end - begin, ray, r2, chunk.t.data(),
-                                         chunk.distance2.data(), chunk.accepted.data());
-#endif
-        if (end - begin < Chunk::vector_minimum) return filter_scalar(begin, end, ray, r2, chunk);
-        measure(begin, end, ray, r2, chunk);
-        std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < end - begin; ++k) {  // packed in place: n <= k
-            chunk.accepted[n] = k;
-            chunk.t[n] = chunk.t[k];
-            chunk.distance2[n] = chunk.distance2[k];
-            // 1.0 is 0x3FF0... and 0.0 is 0: the top three bits are 001 or 000 (integer work only).
-            n += static_cast<std::uint32_t>(std::bit_cast<std::uint64_t>(chunk.inside[k]) >> 61);
-        }
-        return n;
-    }
-
-    /// filter() for a short chunk: in_cylinder's arithmetic one record at a time (glm, scalar
-    /// double), with the same branch-free compaction.
-    std::uint32_t filter_scalar(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
-        const Record* const records = records_.data() + begin;
-        const vec3 o = ray.origin, u = ray.direction;
-        const double t_max = ray.t_max;
-        std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < end - begin; ++k) {
-            const vec3 d = records[k].position() - o;
-            const double t = glm::dot(d, u);
-            const vec3 perp = d - t * u;
-            const double dist2 = glm::dot(perp, perp);
-            chunk.t[n] = t;
-            chunk.distance2[n] = dist2;
-            chunk.accepted[n] = k;
-            n += static_cast<std::uint32_t>((t >= 0.0) & (t <= t_max) & (dist2 <= r2));
-        }
-        return n;
-    }
-
-    /// Reports records [begin, end), all inside the cylinder, with in_cylinder's t and
-    /// distance2 (kept out of line: the walk's hot loop stays small). Inlined with the
-    /// collector, the compiler drops what the collector does not use (the estimator uses t
-    /// only, a counter neither), which the vectorised measure() cannot: it is slower here.
-    template <Collector C>
-#if defined(__GNUC__)
-    __attribute__((noinline))
-#endif
-    bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, C& collect) const {
-        const Record* const records = records_.data();
-        Hit hit{};
-        for (std::uint32_t i = begin; i < end; ++i) {
-            const vec3 d = records[i].position() - ray.origin;
-            hit.t = glm::dot(d, ray.direction);
-            const vec3 perp = d - hit.t * ray.direction;
-            hit.distance2 = glm::dot(perp, perp);
-            hit.index = i;
-            if (!collect(hit)) return false;
-        }
-        return true;
+        return ranges.stream(work, ray, r2, collect);
     }
 
     struct Node {

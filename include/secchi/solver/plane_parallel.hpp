@@ -11,6 +11,7 @@
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
 #include "secchi/transport/lane_tracer.hpp"
+#include "secchi/map/voi_grid.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/stratified_water.hpp"
@@ -22,12 +23,13 @@
 
 namespace secchi {
 
-enum class StoreKind { kdtree, voi, nanoflann, brute_force };
+enum class StoreKind { kdtree, voi, voi_grid, nanoflann, brute_force };
 
 inline std::string to_string(StoreKind k) {
     switch (k) {
         case StoreKind::kdtree: return "kdtree";
         case StoreKind::voi: return "voi";
+        case StoreKind::voi_grid: return "voi-grid";
         case StoreKind::nanoflann: return "nanoflann";
         case StoreKind::brute_force: return "brute-force";
     }
@@ -37,9 +39,10 @@ inline std::string to_string(StoreKind k) {
 inline StoreKind parse_store(const std::string& s) {
     if (s == "kdtree") return StoreKind::kdtree;
     if (s == "voi") return StoreKind::voi;
+    if (s == "voi-grid") return StoreKind::voi_grid;
     if (s == "nanoflann") return StoreKind::nanoflann;
     if (s == "brute-force") return StoreKind::brute_force;
-    reject("store", s, "must be kdtree, voi, nanoflann or brute-force");
+    reject("store", s, "must be kdtree, voi, voi-grid, nanoflann or brute-force");
 }
 
 /// Which first pass traces the photons: PhotonTracer, or LaneTracer (photons in SIMD lanes;
@@ -177,6 +180,9 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
             case StoreKind::kdtree: run(KdTreeStore<Record>(std::move(tr.records)), spheres); break;
             case StoreKind::nanoflann: run(NanoflannStore<Record>(std::move(tr.records)), spheres); break;
             case StoreKind::voi: run(VoiOctreeStore<Record>(std::move(tr.records)), VoiCylinder{}); break;
+            case StoreKind::voi_grid:
+                run(VoiGridStore<Record>(std::move(tr.records), Radius(cfg.radius)), VoiCylinder{});
+                break;
             case StoreKind::brute_force: run(BruteForceStore<Record>(std::move(tr.records)), VoiCylinder{}); break;
         }
         out.seconds_collect = detail::seconds_since(t0) - out.seconds_transport - out.seconds_build;
