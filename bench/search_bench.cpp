@@ -2,23 +2,27 @@
 //   search_bench --suite build|collect|uniform|scaling|tune|all [--quick] [--md FILE] [--csv FILE]
 //                [--repeats R] [--max-records N] [--map-photons N]
 // Every figure is the median of R timed runs (spread: min-max), 1 thread.
-//  - build:   map build time and bytes per photon for the k-d tree, the nanoflann adaptor and
-//             the VOI octree at 1e5, 1e6, 1e7 records, CompactRecord and FullRecord. Records:
+//  - build:   map build time and bytes per photon for the k-d tree, the nanoflann adaptor, the
+//             VOI octree and the VOI grid (cells for r = 0.05) at 1e5, 1e6, 1e7 records, CompactRecord and FullRecord. Records:
 //             the problem-2a light field (traced, FullRecord, converted to CompactRecord), the
 //             first N records in photon order.
 //  - collect: rays per second for vertical rays of length 8 from tau 1 through a problem-2a map,
-//             k-d tree spheres at n = 8..128 and the VOI cylinder at equal radius, with photons
-//             per ray and Lu +- SE; then at equal photons per ray (cylinder radius scaled).
+//             k-d tree spheres at n = 8..128 and the VOI cylinder (octree and grid) at equal
+//             radius, with photons per ray and Lu +- SE; then at equal photons per ray
+//             (cylinder radius scaled), the octree and then the grid against the k-d tree.
 //  - uniform: search only, 1e6 uniform points in the unit cube, ~50 per sphere (the scale
-//             figures): k-d tree and nanoflann stepping at n = 32 against the VOI cylinder.
+//             figures): k-d tree and nanoflann stepping at n = 32 against the VOI cylinder
+//             (octree and grid).
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
+//  - tune:    the VOI octree's leaf size and the VOI grid's cell shape, on the collect map.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
+#include "secchi/map/voi_grid.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/solver/plane_parallel.hpp"
@@ -86,15 +90,15 @@ void out(const Options& o, const std::string& line) {
 
 // ---------------------------------------------------------------------------------- build
 
-template <class Store, class Record>
+template <class Store, class Record, class... Args>
 void build_row(const Options& o, const char* store_name, const char* policy, const std::vector<Record>& records,
-               int repeats) {
+               int repeats, const Args&... args) {
     std::vector<Record> copy;
     std::size_t bytes = 0;
     const Timing t = time_runs(
         repeats, [&] { copy = records; },
         [&] {
-            const Store s(std::move(copy));
+            const Store s(std::move(copy), args...);
             bytes = s.memory_bytes();
         });
     out(o, "| " + std::string(store_name) + " | " + policy + " | " + fmt("%.0e", static_cast<double>(records.size())) +
@@ -120,10 +124,12 @@ void suite_build(const Options& o) {
         build_row<KdTreeStore<CompactRecord>>(o, "k-d tree", "compact", compact, reps);
         build_row<NanoflannStore<CompactRecord>>(o, "nanoflann", "compact", compact, reps);
         build_row<VoiOctreeStore<CompactRecord>>(o, "VOI octree", "compact", compact, reps);
+        build_row<VoiGridStore<CompactRecord>>(o, "VOI grid (cells for r = 0.05)", "compact", compact, reps, Radius(0.05));
         const auto fullp = prefix(full, n);
         build_row<KdTreeStore<FullRecord>>(o, "k-d tree", "full", fullp, reps);
         build_row<NanoflannStore<FullRecord>>(o, "nanoflann", "full", fullp, reps);
         build_row<VoiOctreeStore<FullRecord>>(o, "VOI octree", "full", fullp, reps);
+        build_row<VoiGridStore<FullRecord>>(o, "VOI grid (cells for r = 0.05)", "full", fullp, reps, Radius(0.05));
     }
     out(o, "");
 }
@@ -200,9 +206,17 @@ void suite_collect(const Options& o) {
                    fmt("%.4g", c.photons_per_ray) + " | " + fmt("%.3g", c.t.median / nr / c.photons_per_ray * 1e9) +
                    " | " + fmt("%.3g", (c.t.median - s.first.median) / nr / c.photons_per_ray * 1e9) + " | " + lu_cell(c.lu) + " |");
     }
-    out(o, "| VOI cylinder | " + rate_cell(v.t, nr) + " | " + fmt("%.4g", nr / vs.first.median) + " | " +
-               fmt("%.4g", v.photons_per_ray) + " | " + fmt("%.3g", v.t.median / nr / v.photons_per_ray * 1e9) + " | " +
-               fmt("%.3g", (v.t.median - vs.first.median) / nr / v.photons_per_ray * 1e9) + " | " + lu_cell(v.lu) + " |");
+    auto cylinder_row = [&](const std::string& name, const Collected& c, const std::pair<Timing, double>& search) {
+        out(o, "| " + name + " | " + rate_cell(c.t, nr) + " | " + fmt("%.4g", nr / search.first.median) + " | " +
+                   fmt("%.4g", c.photons_per_ray) + " | " + fmt("%.3g", c.t.median / nr / c.photons_per_ray * 1e9) + " | " +
+                   fmt("%.3g", (c.t.median - search.first.median) / nr / c.photons_per_ray * 1e9) + " | " + lu_cell(c.lu) + " |");
+    };
+    cylinder_row("VOI cylinder (octree)", v, vs);
+    {
+        const VoiGridStore<CompactRecord> grid(map.records, Radius(r));
+        cylinder_row("VOI cylinder (grid, cells for r)", collect(o, grid, VoiCylinder{}, cone, map, rays, r),
+                     search_only(o.repeats, grid, VoiCylinder{}, rays, r));
+    }
     out(o, "");
     out(o, "VOI / k-d rays/s at equal radius: " + [&] {
         std::string s;
@@ -240,6 +254,26 @@ void suite_collect(const Options& o) {
                    " | " + fmt("%.3g", v.rays_per_s / kw.rays_per_s) + " |");
     }
     out(o, "");
+
+    out(o, "The same cylinder radii r_c in the VOI grid (VoiGridStore, its cells sized for each r_c: columns r_c / 2 "
+           "wide, r_c tall; built per row), against the same k-d tree estimates; **grid / k-d** paired as above.\n");
+    out(o, "| n | r_c (m) | grid photons/ray | grid rays/s [min-max] | grid Lu +- SE | k-d Lu +- SE | **grid / k-d**, paired | search only: grid / k-d | grid / octree at r_c, search only |");
+    out(o, "|---|---|---|---|---|---|---|---|---|");
+    for (std::size_t i = 0; i < k.size(); ++i) {
+        const double rc = r * std::sqrt(k[i].photons_per_ray / v.photons_per_ray);
+        const VoiGridStore<CompactRecord> grid(map.records, Radius(rc));
+        const auto c = collect(o, grid, VoiCylinder{}, cone, map, rays, rc);
+        const auto cs = search_only(o.repeats, grid, VoiCylinder{}, rays, rc);
+        const auto os = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
+        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.flux_per_map_photon, map.batches, r);
+        const auto grid_est = radiance_estimator(grid, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rc);
+        const Timing paired = paired_ratio(o.repeats, [&] { kd_est.estimate(rays, 1); }, [&] { grid_est.estimate(rays, 1); });
+        out(o, "| " + std::to_string(ns[i]) + " | " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " +
+                   rate_cell(c.t, nr) + " | " + lu_cell(c.lu) + " | " + lu_cell(k[i].lu) + " | **" + fmt("%.3g", paired.median) +
+                   "** [" + fmt("%.3g", paired.lo) + "-" + fmt("%.3g", paired.hi) + "] | " +
+                   fmt("%.3g", k_search[i] / cs.first.median) + " | " + fmt("%.3g", os.first.median / cs.first.median) + " |");
+    }
+    out(o, "");
 }
 
 // -------------------------------------------------------------------------------- uniform
@@ -266,6 +300,9 @@ void suite_uniform(const Options& o) {
     const double rc = r * std::sqrt(ks.second / (n * pi * r * r));
     const auto vs = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
     const auto ve = search_only(o.repeats, voi, VoiCylinder{}, rays, r);
+    const VoiGridStore<CompactRecord> grid_c(recs, Radius(rc)), grid_r(recs, Radius(r));
+    const auto gs = search_only(o.repeats, grid_c, VoiCylinder{}, rays, rc);
+    const auto ge = search_only(o.repeats, grid_r, VoiCylinder{}, rays, r);
     out(o, "### Search only, 1e6 uniform points (the issue's scale figures)\n");
     out(o, "1e6 uniform CompactRecords in the unit cube; 100 vertical rays of length 1; sphere radius " + fmt("%.4f", r) +
                " (50 points expected per sphere); the cylinder radius r_c = r sqrt(P_kd / (N pi r^2)) gives equal photons "
@@ -279,6 +316,10 @@ void suite_uniform(const Options& o) {
                fmt("%.4g", vs.second) + " | " + fmt("%.3g", ks.first.median / vs.first.median) + " |");
     out(o, "| VOI cylinder, r = " + fmt("%.4f", r) + " (equal radius) | " + rate_cell(ve.first, nr) + " | " +
                fmt("%.4g", ve.second) + " | " + fmt("%.3g", ks.first.median / ve.first.median) + " |");
+    out(o, "| VOI grid (cells for r_c), r_c = " + fmt("%.4f", rc) + " (equal photons) | " + rate_cell(gs.first, nr) + " | " +
+               fmt("%.4g", gs.second) + " | " + fmt("%.3g", ks.first.median / gs.first.median) + " |");
+    out(o, "| VOI grid (cells for r), r = " + fmt("%.4f", r) + " (equal radius) | " + rate_cell(ge.first, nr) + " | " +
+               fmt("%.4g", ge.second) + " | " + fmt("%.3g", ks.first.median / ge.first.median) + " |");
     out(o, "");
 }
 
@@ -369,13 +410,7 @@ void suite_tune(const Options& o) {
         const VoiOctreeStore<CompactRecord> voi(map.records, leaf);
         for (double r : {0.05, 0.026}) {
             typename VoiOctreeStore<CompactRecord>::AlongStats sum;
-            for (const Ray& ray : rays) {
-                const auto st = voi.along_stats(ray, Radius(r));
-                sum.nodes += st.nodes;
-                sum.tested += st.tested;
-                sum.bulk += st.bulk;
-                sum.hits += st.hits;
-            }
+            for (const Ray& ray : rays) sum += voi.along_stats(ray, Radius(r));
             const auto so = search_only(o.repeats, voi, VoiCylinder{}, rays, r);
             out(o, "| " + std::to_string(leaf) + " | " + std::to_string(voi.node_count()) + " | " +
                        fmt("%.2f", static_cast<double>(voi.memory_bytes()) / voi.size()) + " | " + fmt("%.3g", b.median) +
@@ -385,6 +420,26 @@ void suite_tune(const Options& o) {
     }
     out(o, "");
 
+    out(o, "### VOI grid: cell shape\n");
+    out(o, "The same map and rays. VoiGridStore with columns w wide and cells h tall, in units of the query radius r "
+           "(at most 2 cells per record: finer shapes are widened, as the cell sizes shown say). Per ray (counting "
+           "collector): record ranges scanned (one per column), records tested, hits; search-only rays/s, median of " +
+           std::to_string(o.repeats) + " runs.\n");
+    out(o, "| r | w / r | h / r | cell w x h (m) | bytes/photon | ranges/ray | tested/ray | hits/ray | rays/s [min-max] |");
+    out(o, "|---|---|---|---|---|---|---|---|---|");
+    for (double r : {0.05, 0.026})
+        for (double w : {1.0, 0.5, 0.33})
+            for (double h : {0.5, 1.0, 2.0, 4.0}) {
+                const VoiGridStore<CompactRecord> grid(map.records, w * r, h * r);
+                typename VoiGridStore<CompactRecord>::AlongStats sum;
+                for (const Ray& ray : rays) sum += grid.along_stats(ray, Radius(r));
+                const auto so = search_only(o.repeats, grid, VoiCylinder{}, rays, r);
+                out(o, "| " + fmt("%.3f", r) + " | " + fmt("%.2g", w) + " | " + fmt("%.2g", h) + " | " +
+                           fmt("%.4f", grid.cell_size().x) + " x " + fmt("%.4f", grid.cell_size().z) + " | " +
+                           fmt("%.2f", static_cast<double>(grid.memory_bytes()) / grid.size()) + " | " +
+                           fmt("%.3g", sum.ranges / nr) + " | " + fmt("%.4g", sum.tested / nr) + " | " +
+                           fmt("%.4g", sum.hits / nr) + " | " + rate_cell(so.first, nr) + " |");
+            }
     out(o, "");
 }
 

@@ -6,7 +6,7 @@
 // threads (thread_speedup_propagation is problem 2a's). Collection: rays per
 // second through a problem-2a map, k-d tree spheres at n = 32 against the VOI cylinder at the
 // same radius and at equal photons per ray (the speed-ups paired: the two timed in turn, round
-// by round). Thread speed-ups: 2 threads against 1 on the same work, alternated run by run
+// by round), the cylinder in the VOI octree (voi_*) and in the grid of columns (voi_grid_*). Thread speed-ups: 2 threads against 1 on the same work, alternated run by run
 // (collection also on a cache-resident map, thread_speedup_collection_cached_map, to separate
 // memory traffic), and thread_speedup_compute_loop(_throughput_bound): pure compute loops,
 // latency-bound and throughput-bound, timed in the same rounds: the speed-up the shared
@@ -176,13 +176,23 @@ int main(int argc, char** argv) {
         fig["voi_rays_per_s"] = v1.rays_per_s;
         // The speed-ups are paired (bench_timing.hpp's paired_ratio): 7 rounds, each timing the
         // k-d tree's estimate and then the cylinder's; the median of the rounds' ratios.
-        auto speedup_vs_kd32 = [&](double voi_radius) {
+        auto speedup_vs_kd32 = [&](const auto& store, double voi_radius) {
             const auto kd_est = radiance_estimator(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, 0.05);
-            const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, voi_radius);
+            const auto voi_est = radiance_estimator(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, voi_radius);
             return paired_ratio(7, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); }).median;
         };
-        fig["voi_speedup_vs_kd32"] = speedup_vs_kd32(0.05);
-        fig["voi_speedup_vs_kd32_equal_photons"] = speedup_vs_kd32(r_equal);
+        fig["voi_speedup_vs_kd32"] = speedup_vs_kd32(voi, 0.05);
+        fig["voi_speedup_vs_kd32_equal_photons"] = speedup_vs_kd32(voi, r_equal);
+        // The same cylinder on the uniform grid of columns (VoiGridStore), its cells sized for
+        // the radius it serves.
+        const VoiGridStore<CompactRecord> grid(map.records, Radius(0.05)), grid_equal(map.records, Radius(r_equal));
+        const auto g1 = collect(grid, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
+        const auto ge =
+            collect(grid_equal, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats, r_equal);
+        fig["voi_grid_rays_per_s"] = g1.rays_per_s;
+        fig["voi_grid_rays_per_s_equal_photons"] = ge.rays_per_s;
+        fig["voi_grid_speedup_vs_kd32"] = speedup_vs_kd32(grid, 0.05);
+        fig["voi_grid_speedup_vs_kd32_equal_photons"] = speedup_vs_kd32(grid_equal, r_equal);
         fig["thread_speedup_collection"] = collection_speedup;
         fig["thread_speedup_collection_cached_map"] = cached_speedup;
         fig["thread_speedup_compute_loop"] = median(loop_speedups);
@@ -193,6 +203,8 @@ int main(int argc, char** argv) {
         std::printf("  VOI     : %.3g photons/ray, Lu %.4e +- %.1e\n", v1.photons_per_ray, v1.lu.value, v1.lu.se);
         std::printf("  VOI r=%.4f (equal photons): %.3g photons/ray, Lu %.4e +- %.1e\n", r_equal, ve.photons_per_ray,
                     ve.lu.value, ve.lu.se);
+        std::printf("  VOI grid: %.3g photons/ray, Lu %.4e +- %.1e; r=%.4f: %.3g photons/ray, Lu %.4e +- %.1e\n",
+                    g1.photons_per_ray, g1.lu.value, g1.lu.se, r_equal, ge.photons_per_ray, ge.lu.value, ge.lu.se);
         for (const auto& [k, v] : fig) std::printf("%-32s %.4g\n", k.c_str(), v);
         if (cl.has("json")) {
             std::ofstream os(cl.text("json"));

@@ -109,6 +109,10 @@ public:
     /// tested, the hits.
     struct AlongStats {
         std::size_t ranges = 0, tested = 0, hits = 0;
+        AlongStats& operator+=(const AlongStats& o) {
+            ranges += o.ranges, tested += o.tested, hits += o.hits;
+            return *this;
+        }
     };
     [[nodiscard]] AlongStats along_stats(const Ray& ray, Radius r) const {
         AlongStats stats;

@@ -141,6 +141,10 @@ public:
     /// one by one at leaves, records accepted in bulk (subtrees inside the cylinder), hits.
     struct AlongStats {
         std::size_t nodes = 0, tested = 0, bulk = 0, hits = 0;
+        AlongStats& operator+=(const AlongStats& o) {
+            nodes += o.nodes, tested += o.tested, bulk += o.bulk, hits += o.hits;
+            return *this;
+        }
     };
     [[nodiscard]] AlongStats along_stats(const Ray& ray, Radius r) const {
         AlongStats stats;
