@@ -196,6 +196,19 @@ TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-i
         check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches, r),
                             PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
     }
+    SECTION("VOI cylinder in the grid (runs of photons: in_scatter_many with lanes::exp)") {
+        const VoiGridStore<CompactRecord> grid(map.records, r);
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, 1.0, map.batches, r),
+                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
+    }
+    SECTION("transmittances beyond exp_table's range (c t > 708) take its special values") {
+        const HomogeneousRayOptics murky(cone, 250.0);
+        const PerPhotonOnly<HomogeneousRayOptics> murky_per_photon{murky};
+        const VoiGridStore<CompactRecord> grid(map.records, r);
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, 1.0, map.batches, r),
+                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, 1.0, map.batches, r),
+                            map.batches, rays);
+    }
     SECTION("k-d tree spheres") {
         check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, 1.0, map.batches, r),
                             PathRadianceEstimator(kd, StepSpheres(8), per_photon, 1.0, map.batches, r), map.batches, rays);

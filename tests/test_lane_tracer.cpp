@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <vector>
 
 #if SECCHI_HAS_LANES
@@ -82,6 +83,22 @@ TEST_CASE("log, sin_cos and the rotation in lanes compute what they compute for 
     INFO("sin_cos in lanes: worst " << worst_sin_cos << " ulp; rotation: worst " << worst_rotation);
     CHECK(worst_sin_cos <= 1.0);   // the same operations (a fused multiply-add may round once less)
     CHECK(worst_rotation <= 1e-15);
+}
+
+TEST_CASE("exp in lanes equals exp_table lane by lane") {
+    const auto u = uniforms(8192, 3);
+    std::vector<double> x;
+    for (const double v : u) x.push_back(-707.9 + 1416.8 * v);  // inside exp_table's range
+    for (const double v : u) x.push_back(-8.0 * v);              // the transmittances' usual range
+    x.insert(x.end(), {0.0, -0.0, 1e-300, -1e-300, -707.99, 708.99, 0.5 * std::numbers::ln2, -std::numbers::ln2 / 128});
+    while (x.size() % lane_width) x.push_back(-1.0);
+    double worst = 0;
+    for (std::size_t i = 0; i < x.size(); i += lane_width) {
+        const Reals v = lanes::exp(lanes_of([&](int l) { return x[i + l]; }));
+        for (int l = 0; l < lane_width; ++l) worst = std::max(worst, ulps(v[l], exp_table(x[i + l])));
+    }
+    INFO("lanes::exp: worst " << worst << " ulp from exp_table");
+    CHECK(worst == 0.0);  // the same operations: the estimator's sums rely on it (test_estimate.cpp)
 }
 
 TEST_CASE("Philox uniforms in lanes equal PhotonRng's, bit for bit") {

@@ -535,6 +535,50 @@ TEMPLATE_TEST_CASE("VOI grid along reports in_cylinder's t and distance2 exactly
                                    "column width " + std::to_string(width));
 }
 
+/// Takes the VOI stores' runs of hits whole (ChunkCollector) and single hits (bulk ranges);
+/// stops once it holds `limit` hits (0: never).
+struct RunCollector {
+    std::vector<Hit> got;
+    std::size_t runs = 0, limit = 0;
+    bool operator()(const Hit& h) {
+        got.push_back(h);
+        return limit == 0 || got.size() < limit;
+    }
+    bool hits(std::uint32_t base, const std::uint32_t* offset, const double* t, const double* distance2, std::uint32_t n) {
+        ++runs;
+        for (std::uint32_t k = 0; k < n; ++k) got.push_back({base + offset[k], t[k], distance2[k]});
+        return limit == 0 || got.size() < limit;
+    }
+};
+static_assert(ChunkCollector<RunCollector> && !ChunkCollector<CollectAll>);
+
+TEMPLATE_TEST_CASE("the VOI stores pass runs of hits to a ChunkCollector: the same hits, in order", "[stores]",
+                   VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, VoiGridStore<CompactRecord>,
+                   VoiGridStore<FullRecord>) {
+    const TestType store(make_records<typename TestType::record_type>(Layout::uniform, 20000, 68));
+    std::size_t runs = 0, stopped = 0;
+    for (const Query& q : make_queries(Layout::uniform, 60, 69)) {
+        CollectAll all;
+        REQUIRE(store.along(q.ray, Radius(q.r), all));
+        RunCollector whole;
+        REQUIRE(store.along(q.ray, Radius(q.r), whole));
+        runs += whole.runs;
+        REQUIRE(whole.got.size() == all.hits.size());
+        for (std::size_t k = 0; k < all.hits.size(); ++k) {
+            REQUIRE(whole.got[k].index == all.hits[k].index);
+            REQUIRE(whole.got[k].t == all.hits[k].t);
+            REQUIRE(whole.got[k].distance2 == all.hits[k].distance2);
+        }
+        if (all.hits.size() < 200) continue;
+        RunCollector first{{}, 0, 10};  // stops within the first run of 10 or more hits
+        REQUIRE_FALSE(store.along(q.ray, Radius(q.r), first));
+        REQUIRE(first.got.size() < all.hits.size());
+        ++stopped;
+    }
+    REQUIRE(runs > 0);
+    REQUIRE(stopped > 0);
+}
+
 TEST_CASE("the VOI grid agrees with brute force for any cell shape", "[stores][grid]") {
     for (const Layout layout : {Layout::uniform, Layout::clustered}) {
         const auto records = make_records<FullRecord>(layout, 6000, 63);

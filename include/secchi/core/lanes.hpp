@@ -3,7 +3,8 @@
 // (std::experimental::simd, the Parallelism TS 2; GCC >= 11 and libstdc++), for LaneTracer
 // (transport/lane_tracer.hpp). The types, and what only the lanes need: a logarithm for the
 // free path -ln u (manual eq. 3.17), table lookups per lane and masks as bits. sin_cos and
-// rotate_direction are math.hpp's, written once for doubles and vectors.
+// rotate_direction are math.hpp's, written once for doubles and vectors. Also exp, for the
+// transmittances of many collected photons at once (estimate/path_radiance.hpp).
 //
 // The lanes are the target's native vector of doubles (2 with SSE2, 4 with AVX2, 8 with
 // AVX-512): a portable build gains little from them; one for AVX2 or better does
@@ -153,6 +154,23 @@ SECCHI_KERNEL Reals log(Reals x) {
     const Reals ed = stdx::static_simd_cast<Reals>(e);
     constexpr double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
     return ed * ln2_hi + (2.0 * f + (f * f2 * series + ed * ln2_lo));
+}
+
+/// exp_table (core/math.hpp) per lane, by the same operations: equal to it lane by lane for
+/// x in (-708, 709) (tests/test_lane_tracer.cpp); lanes outside that range are the caller's
+/// (exp_table's special values). For the transmittances exp(-c t) of many collected photons
+/// at once (estimate/path_radiance.hpp).
+SECCHI_KERNEL Reals exp(const Reals& x) {
+    const Reals kd = detail::round_to_integer(x * detail::exp_inv_ln2_64);
+    // kd = k is an integer of magnitude below 2^51, so kd + 1.5 * 2^52 is exact and its bits
+    // are those of 1.5 * 2^52 plus k (two's complement): j = k mod 64 and 64 m = k - j there.
+    const Words k = stdx::__proposed::simd_bit_cast<Words>(kd + 0x1.8p52) - Words(0x4338000000000000ull);
+    const Words two_m = ((k & Words(~63ull)) << 46) + Words(1023ull << 52);  // (m + 1023) << 52: 2^m
+    alignas(64) std::uint64_t j[lane_width];
+    alignas(64) double t[lane_width];
+    (k & Words(63)).copy_to(j, aligned);
+    for (int l = 0; l < lane_width; ++l) t[l] = detail::exp2_64ths[j[l]];
+    return detail::exp_from_table(x, kd, Reals(t, aligned), stdx::__proposed::simd_bit_cast<Reals>(two_m));
 }
 
 /// Positions and directions per lane.

@@ -120,6 +120,22 @@ inline constexpr double exp2_64ths[64] = {
     0x1.ea4afa2a490dap+0, 0x1.efa1bee615a27p+0, 0x1.f50765b6e4540p+0, 0x1.fa7c1819e90d8p+0};
 }  // namespace detail
 
+namespace detail {
+/// Tang's constants: 64 / ln 2, and ln2/64 in two parts (the first with 32 significant bits).
+inline constexpr double exp_inv_ln2_64 = 92.33248261689366, exp_ln2_64_hi = 0.01083042469326756,
+                        exp_ln2_64_lo = 2.9815858269852933e-12;
+
+/// exp_table's arithmetic once the table entry is known, written once for doubles and SIMD
+/// vectors of them (lanes::exp, core/lanes.hpp): kd = round(x 64 / ln 2) = 64 m + j,
+/// t = 2^(j/64), two_m = 2^m; r = x - kd ln2/64 and e^x = 2^m 2^(j/64) (1 + (e^r - 1)).
+template <class Real>
+SECCHI_KERNEL Real exp_from_table(const Real& x, const Real& kd, const Real& t, const Real& two_m) {
+    const Real r = (x - kd * exp_ln2_64_hi) - kd * exp_ln2_64_lo;
+    const Real em1 = r * (1.0 + r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (1.0 / 120.0)))));  // e^r - 1
+    return two_m * (t + t * em1);
+}
+}  // namespace detail
+
 /// e^x, for the transmittance exp(-c t) of every collected photon. Tang's table method
 /// (ACM TOMS 15, 1989): x = (64 m + j) ln2/64 + r with |r| <= ln2/128, ln2/64 split in two
 /// (the first part with 32 significant bits, so k times it is exact for |k| < 2^21); then
@@ -128,16 +144,11 @@ inline constexpr double exp2_64ths[64] = {
 /// nears the subnormal range), +inf above 709; NaN stays NaN.
 inline double exp_table(double x) {
     if (!(x > -708.0 && x < 709.0)) return x != x ? x : (x > 0.0 ? INFINITY : 0.0);
-    constexpr double inv_ln2_64 = 92.33248261689366, ln2_64_hi = 0.01083042469326756,
-                     ln2_64_lo = 2.9815858269852933e-12;
-    const double kd = detail::round_to_integer(x * inv_ln2_64);
-    const double r = (x - kd * ln2_64_hi) - kd * ln2_64_lo;
+    const double kd = detail::round_to_integer(x * detail::exp_inv_ln2_64);
     const auto k = static_cast<std::int64_t>(kd);
     const std::int64_t m = k >> 6;  // floor(k / 64)
-    const double em1 = r * (1.0 + r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (1.0 / 120.0)))));  // e^r - 1
     const double two_m = std::bit_cast<double>(static_cast<std::uint64_t>(m + 1023) << 52);
-    const double t = detail::exp2_64ths[k & 63];
-    return two_m * (t + t * em1);
+    return detail::exp_from_table(x, kd, detail::exp2_64ths[k & 63], two_m);
 }
 
 /// Direction after scattering through angle psi (cos_psi) at azimuth phi about `dir`

@@ -7,18 +7,30 @@
 //    volume inside the water (boundary bias compensation, manual 3.5.1).
 //  - VoiCylinder: one `along` search of the cylinder of radius r around the whole segment
 //    (manual 3.5, eq. 3.21-3.22): photon weight 1 / (pi r^2), independent of segmentation.
-// Each calls visit(record index, distance along the ray, weight).
+// Each calls visit(record index, distance along the ray, weight); VoiCylinder passes the
+// stores' runs of hits whole to a visitor that takes them (ChunkVisitor).
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/store.hpp"
-#include <string>
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <type_traits>
 
 namespace secchi {
 
 /// The visitor signature collection volumes call (used to check the concept).
 struct CollectionVisitorArchetype {
     void operator()(std::uint32_t, double, double) const {}
+};
+
+/// A visitor that may also take a run of photons at once, all of one weight:
+/// v.photons(base, offset, t, n, weight) visits records base + offset[k] at distances t[k],
+/// k = 0..n-1, in order, as n calls v(base + offset[k], t[k], weight) would.
+template <class V>
+concept ChunkVisitor = requires(V v, std::uint32_t base, const std::uint32_t* offset, const double* t, std::uint32_t n,
+                                double weight) {
+    { v(base, weight, weight) };
+    { v.photons(base, offset, t, n, weight) };
 };
 
 template <class V>
@@ -74,12 +86,34 @@ public:
     template <class Store, class Visit>
     void gather(const Store& store, const Ray& ray, Radius r, Visit&& visit) const {
         const double weight = 1.0 / (pi * r.squared());
-        auto collect = [&](const Hit& h) {
+        if constexpr (ChunkVisitor<Visit>) {
+            Chunks<std::remove_reference_t<Visit>> collect{visit, weight};
+            store.along(ray, r, collect);
+        } else {
+            auto collect = [&](const Hit& h) {
+                visit(h.index, h.t, weight);
+                return true;
+            };
+            store.along(ray, r, collect);
+        }
+    }
+
+private:
+    /// The collector for a visitor that takes runs of photons (ChunkVisitor): the store's
+    /// chunks of hits pass through whole.
+    template <class Visit>
+    struct Chunks {
+        Visit& visit;
+        double weight;
+        bool operator()(const Hit& h) {
             visit(h.index, h.t, weight);
             return true;
-        };
-        store.along(ray, r, collect);
-    }
+        }
+        bool hits(std::uint32_t base, const std::uint32_t* offset, const double* t, const double*, std::uint32_t n) {
+            visit.photons(base, offset, t, n, weight);
+            return true;
+        }
+    };
 };
 
 }  // namespace secchi

@@ -48,7 +48,7 @@ public:
 
     /// Reports the hits of the queued ranges in order, prefetching one range ahead: a bulk
     /// range all its records, a scanned range (a leaf) those filter() accepts, in chunks of at
-    /// most Chunk::capacity records.
+    /// most Chunk::capacity records (to a ChunkCollector as one run of hits per chunk).
     template <Collector C>
     bool stream(const WorkList& work, const Ray& ray, double r2, C& collect) const {
         if (work.size > 0) prefetch(work.items[0].begin, work.items[0].end);
@@ -64,6 +64,10 @@ public:
                 const std::uint32_t end = std::min<std::uint32_t>(range.end, begin + Chunk::capacity);
                 Chunk chunk;
                 const std::uint32_t n = filter(begin, end, ray, r2, chunk);
+                if constexpr (ChunkCollector<C>) {
+                    if (!collect.hits(begin, chunk.accepted.data(), chunk.t.data(), chunk.distance2.data(), n)) return false;
+                    continue;
+                }
                 for (std::uint32_t k = 0; k < n; ++k) {
                     hit.index = begin + chunk.accepted[k];
                     hit.t = chunk.t[k];

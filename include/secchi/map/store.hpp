@@ -41,6 +41,17 @@ concept Collector = requires(C c, const Hit& h) {
     { c(h) } -> std::convertible_to<bool>;
 };
 
+/// A collector that may also take a run of hits at once (the VOI stores' leaf scan finds them
+/// in chunks): c.hits(base, offset, t, distance2, n) receives hits k = 0..n-1, record
+/// base + offset[k] with t[k] and distance2[k], in order, as n calls c(hit) would, and returns
+/// false to stop the search. Stores call whichever they like; the hits and their order are
+/// the same.
+template <class C>
+concept ChunkCollector = Collector<C> && requires(C c, std::uint32_t base, const std::uint32_t* offset,
+                                                  const double* t, const double* distance2, std::uint32_t n) {
+    { c.hits(base, offset, t, distance2, n) } -> std::convertible_to<bool>;
+};
+
 /// Collects every hit (never stops early).
 struct CollectAll {
     std::vector<Hit> hits;
