@@ -27,10 +27,10 @@ struct CollectionVisitorArchetype {
 /// v.photons(base, offset, t, n, weight) visits records base + offset[k] at distances t[k],
 /// k = 0..n-1, in order, as n calls v(base + offset[k], t[k], weight) would.
 template <class V>
-concept ChunkVisitor = requires(V v, std::uint32_t base, const std::uint32_t* offset, const double* t, std::uint32_t n,
-                                double weight) {
-    { v(base, weight, weight) };
-    { v.photons(base, offset, t, n, weight) };
+concept ChunkVisitor = requires(V v, std::uint32_t index, double distance, double weight, const std::uint32_t* offset,
+                                const double* t, std::uint32_t n) {
+    { v(index, distance, weight) };
+    { v.photons(index, offset, t, n, weight) };
 };
 
 template <class V>

@@ -279,10 +279,11 @@ private:
             CodedRuns<std::remove_const_t<decltype(coded)>> sum{store_.records(), coded, ray, batch_sums};
             volume_.gather(store_, ray, radius_, sum);
             return sum.touched;
+        } else {
+            return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
+                return coded.in_scatter(rec.position().z, PolarCode<Record>::of(rec), ray, t);
+            });
         }
-        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
-            return coded.in_scatter(rec.position().z, PolarCode<Record>::of(rec), ray, t);
-        });
     }
 
     /// accumulate_coded's visitor where the coded optics compute many photons at once

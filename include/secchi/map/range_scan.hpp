@@ -66,13 +66,13 @@ public:
                 const std::uint32_t n = filter(begin, end, ray, r2, chunk);
                 if constexpr (ChunkCollector<C>) {
                     if (!collect.hits(begin, chunk.accepted.data(), chunk.t.data(), chunk.distance2.data(), n)) return false;
-                    continue;
-                }
-                for (std::uint32_t k = 0; k < n; ++k) {
-                    hit.index = begin + chunk.accepted[k];
-                    hit.t = chunk.t[k];
-                    hit.distance2 = chunk.distance2[k];
-                    if (!collect(hit)) return false;
+                } else {
+                    for (std::uint32_t k = 0; k < n; ++k) {
+                        hit.index = begin + chunk.accepted[k];
+                        hit.t = chunk.t[k];
+                        hit.distance2 = chunk.distance2[k];
+                        if (!collect(hit)) return false;
+                    }
                 }
             }
         }

@@ -40,7 +40,7 @@
 //
 // Tuning (bench/search_bench --suite tune: a problem-2a map of 6.5e6 CompactRecords, 100
 // vertical rays of length 8, r = 0.05 and 0.026; BENCHMARKS.md). At a leaf the
-// records are filtered without a branch per record (filter()), so a leaf costs little more
+// records are filtered without a branch per record (range_scan.hpp's filter()), so a leaf costs little more
 // than streaming its records, while every node costs a box test and, once the map outgrows
 // the cache, a likely miss. Search time per ray therefore falls with the leaf size up to 128:
 // relative to 128, leaves of 4, 8, 16, 32, 64 run at about 0.4, 0.5, 0.55, 0.7, 0.9 of its
@@ -57,7 +57,7 @@
 // permute, for chunks of any length (no scalar path for short ones), with the same hits and
 // values. Search only, against the loops below: about 1.15 times the rays/s, with AVX-512 on
 // a Zen 4 and with AVX2 on a Zen 3 alike (BENCHMARKS.md, sixth and seventh sessions). Otherwise:
-// the leaf scan (filter(), measure()) computes in_cylinder's double arithmetic in loops the
+// the leaf scan (range_scan.hpp: filter(), measure()) computes in_cylinder's double arithmetic in loops the
 // compiler vectorises (two records per SSE2 register) for chunks of 32 records or more: at
 // leaf size 128 about 1.1 times the rays/s of testing one record at a time (tune suite,
 // r = 0.026 and 0.05), which was bound by the floating-point ports (~25 operations per
