@@ -21,6 +21,7 @@ int main() {
     const auto first = PhotonTracer<Water, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), run).run();
 
     const VoiOctreeStore<CompactRecord> map(first.records);         // second pass (manual 3.5)
+    // (or VoiGridStore<CompactRecord>(first.records, Radius(0.05)): the same query, faster)
     const ConeAveragedPhase cone(water.phase(), /*omega=*/0.005);
     const HomogeneousRayOptics optics{cone, water.attenuation()};    // pbar_omega(psi) exp(-c t), eq. 3.18
     const PathRadianceEstimator lu(map, VoiCylinder{}, optics, first.flux_per_map_photon, first.batches, Radius(0.05));
