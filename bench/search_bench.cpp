@@ -3,7 +3,8 @@
 //                [--repeats R] [--max-records N] [--map-photons N]
 // Every figure is the median of R timed runs (spread: min-max), 1 thread.
 //  - build:   map build time and bytes per photon for the k-d tree, the nanoflann adaptor, the
-//             VOI octree and the VOI grid (cells for r = 0.05) at 1e5, 1e6, 1e7 records, CompactRecord and FullRecord. Records:
+//             VOI octree and the VOI grid (cells for r = 0.05) at 1e5, 1e6, 1e7 records,
+//             CompactRecord and FullRecord. Records:
 //             the problem-2a light field (traced, FullRecord, converted to CompactRecord), the
 //             first N records in photon order.
 //  - collect: rays per second for vertical rays of length 8 from tau 1 through a problem-2a map,
