@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
         // loop on 1 and 2 threads (thread_speedup_compute_loop, the median over all rounds): the
         // speed-up the shared machine allowed while the collection figures were taken.
         std::vector<double> loop_speedups, busy_loop_speedups;
-        auto median_thread_speedup = [&](const VoiOctreeStore<CompactRecord>& store, const std::vector<Ray>& grid) {
+        auto median_thread_speedup = [&](const auto& store, const std::vector<Ray>& grid) {
             std::vector<double> speedups;
             for (int round = 0; round < 7; ++round) {
                 const auto one = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 1, 1);
@@ -193,6 +193,7 @@ int main(int argc, char** argv) {
         fig["voi_grid_rays_per_s_equal_photons"] = ge.rays_per_s;
         fig["voi_grid_speedup_vs_kd32"] = speedup_vs_kd32(grid, 0.05);
         fig["voi_grid_speedup_vs_kd32_equal_photons"] = speedup_vs_kd32(grid_equal, r_equal);
+        fig["thread_speedup_collection_grid"] = median_thread_speedup(grid, nadir_ray_grid(1.0, 8.0, 10, 1.0));
         fig["thread_speedup_collection"] = collection_speedup;
         fig["thread_speedup_collection_cached_map"] = cached_speedup;
         fig["thread_speedup_compute_loop"] = median(loop_speedups);
