@@ -16,7 +16,8 @@
 //             (octree and grid).
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
-//  - tune:    the VOI octree's leaf size and the VOI grid's cell shape, on the collect map.
+//  - tune:    the VOI octree's leaf size, the VOI grid's cell shape, and the two on slanted
+//             rays, on the collect map.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
@@ -441,6 +442,39 @@ void suite_tune(const Options& o) {
                            fmt("%.3g", sum.ranges / nr) + " | " + fmt("%.4g", sum.tested / nr) + " | " +
                            fmt("%.4g", sum.hits / nr) + " | " + rate_cell(so.first, nr) + " |");
             }
+    out(o, "");
+
+    out(o, "### VOI grid against the octree: slanted rays\n");
+    out(o, "The same map; the 100 ray origins of the collection table, rays of length 1 tilted by the zenith angle "
+           "theta in the x-z plane; r = 0.026, the grid built for it (columns r/2 wide, r tall), the octree with leaf "
+           "size 128. Search only, counting collector, median of " + std::to_string(o.repeats) + " runs.\n");
+    out(o, "| theta (deg) | hits/ray | grid ranges/ray | grid tested/ray | grid rays/s [min-max] | octree tested/ray | octree rays/s [min-max] | grid / octree |");
+    out(o, "|---|---|---|---|---|---|---|---|");
+    {
+        const double r = 0.026;
+        const VoiGridStore<CompactRecord> grid(map.records, Radius(r));
+        const VoiOctreeStore<CompactRecord> voi(map.records);
+        for (double theta : {0.0, 30.0, 60.0, 85.0}) {
+            std::vector<Ray> slanted;
+            for (Ray ray : rays) {
+                ray.direction = {std::sin(theta * deg), 0.0, std::cos(theta * deg)};
+                ray.t_max = 1.0;
+                slanted.push_back(ray);
+            }
+            typename VoiGridStore<CompactRecord>::AlongStats g;
+            typename VoiOctreeStore<CompactRecord>::AlongStats v;
+            for (const Ray& ray : slanted) {
+                g += grid.along_stats(ray, Radius(r));
+                v += voi.along_stats(ray, Radius(r));
+            }
+            const auto gs = search_only(o.repeats, grid, VoiCylinder{}, slanted, r);
+            const auto vs = search_only(o.repeats, voi, VoiCylinder{}, slanted, r);
+            out(o, "| " + fmt("%.0f", theta) + " | " + fmt("%.4g", g.hits / nr) + " | " + fmt("%.3g", g.ranges / nr) + " | " +
+                       fmt("%.4g", g.tested / nr) + " | " + rate_cell(gs.first, nr) + " | " +
+                       fmt("%.4g", (v.tested + v.bulk) / nr) + " | " + rate_cell(vs.first, nr) + " | " +
+                       fmt("%.3g", vs.first.median / gs.first.median) + " |");
+        }
+    }
     out(o, "");
 }
 

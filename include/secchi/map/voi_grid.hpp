@@ -27,14 +27,16 @@
 // tree descent with a box test per node, and each column's records are one long run that
 // the processor's prefetchers stream; the records tested per hit depend on the column width
 // against r (narrower: fewer wasted records, more columns). Measured (search_bench, a
-// problem-2a map of 6.5e6 records, vertical rays, Zen 3): at r = 0.026 with cells r/2 by r,
-// 21 ranges and 15,900 records tested per ray for 9,200 hits (the octree: 601 nodes and
-// 17,300 tested); 1.4-2.6 times the octree's search rate over r = 0.013-0.052; columns of
-// r/2 or narrower were fastest in the tune suite, the height mattered little for vertical
-// rays. Vertical rays (nadir views, the
-// conformance problems' Lu) cut each column once, over their length; a slanted ray's
-// ranges are shorter. Memory: the records, plus 4 bytes per cell; the grid is limited to
-// max_cells_per_record cells per record (the widths grow by a common factor if needed).
+// problem-2a map of 6.5e6 records, Zen 3), at r = 0.026 with cells r/2 by r:
+//  - vertical rays (nadir views, the conformance problems' Lu) cut each column once, over
+//    their length: 21 ranges and 15,900 records tested per ray for 9,200 hits (the octree:
+//    601 nodes and 17,300 tested); 1.4-2.6 times the octree's search rate over
+//    r = 0.013-0.052; columns of r/2 or narrower were fastest, the height mattered little;
+//  - slanted rays cut more columns, each over a shorter range (rays of length 1 at 30-85
+//    degrees from the vertical: 160-200 ranges, 2.7-3 records tested per hit): 2.1-2.9
+//    times the octree's search rate.
+// Memory: the records, plus 4 bytes per cell; the grid is limited to max_cells_per_record
+// cells per record (the widths grow by a common factor if needed).
 //
 // within(p, r): the columns within r of p, the cells within r of p.z, each record's distance.
 //
