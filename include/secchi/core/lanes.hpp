@@ -34,6 +34,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #if defined(__AVX2__)
 #include <immintrin.h>
 #endif
@@ -61,15 +62,23 @@ SECCHI_KERNEL void for_each(const Mask& m, F&& f) {
     for (unsigned b = bits_of(m); b != 0; b &= b - 1) f(std::countr_zero(b));
 }
 
-/// A table's entries at per-lane indices (integers held as doubles). Written as a plain loop
-/// over arrays, which compilers turn into a gather instruction where the target has one.
-template <class Table>
-SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
-    alignas(64) std::int64_t i[lane_width];
+/// A table's entries at per-lane integer indices (a vector of 64-bit integers, signed or
+/// not). Written as a plain loop over arrays, which compilers turn into a gather instruction
+/// where the target has one.
+template <class Table, class Index>
+    requires std::is_integral_v<typename Index::value_type>
+SECCHI_KERNEL Reals lookup(const Table& table, const Index& index) {
+    alignas(64) typename Index::value_type i[lane_width];
     alignas(64) double v[lane_width];
-    stdx::static_simd_cast<Ints>(index).copy_to(i, aligned);
+    index.copy_to(i, aligned);
     for (int l = 0; l < lane_width; ++l) v[l] = table[static_cast<std::size_t>(i[l])];
     return Reals(v, aligned);
+}
+
+/// The same at indices held as doubles (integers).
+template <class Table>
+SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
+    return lookup(table, stdx::static_simd_cast<Ints>(index));
 }
 
 /// One Philox4x32-10 block per lane (philox_block, core/rng.hpp) from 64-bit block and
@@ -166,11 +175,8 @@ SECCHI_KERNEL Reals exp(const Reals& x) {
     // are those of 1.5 * 2^52 plus k (two's complement): j = k mod 64 and 64 m = k - j there.
     const Words k = stdx::__proposed::simd_bit_cast<Words>(kd + 0x1.8p52) - Words(0x4338000000000000ull);
     const Words two_m = ((k & Words(~63ull)) << 46) + Words(1023ull << 52);  // (m + 1023) << 52: 2^m
-    alignas(64) std::uint64_t j[lane_width];
-    alignas(64) double t[lane_width];
-    (k & Words(63)).copy_to(j, aligned);
-    for (int l = 0; l < lane_width; ++l) t[l] = detail::exp2_64ths[j[l]];
-    return detail::exp_from_table(x, kd, Reals(t, aligned), stdx::__proposed::simd_bit_cast<Reals>(two_m));
+    return detail::exp_from_table(x, kd, lookup(detail::exp2_64ths, k & Words(63)),
+                                  stdx::__proposed::simd_bit_cast<Reals>(two_m));
 }
 
 /// Positions and directions per lane.

@@ -76,12 +76,9 @@
 #include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
 #include <array>
-#include <bit>
 #include <cmath>
-#include <concepts>
 #include <cstdint>
 #include <limits>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
