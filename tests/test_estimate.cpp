@@ -196,7 +196,7 @@ TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-i
         check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches, r),
                             PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
     }
-    SECTION("VOI cylinder in the grid (runs of photons: in_scatter_many with lanes::exp)") {
+    SECTION("VOI cylinder in the grid (runs of photons: in_scatter_lanes with lanes::exp)") {
         const VoiGridStore<CompactRecord> grid(map.records, r);
         check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, 1.0, map.batches, r),
                             PathRadianceEstimator(grid, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
