@@ -127,7 +127,7 @@ struct PerPhotonOnly {
     }
 };
 
-/// Counts the rays the estimator tabulated (for_cosines calls), else the optics unchanged.
+/// Counts the tables the estimator built (for_cosines calls), else the optics unchanged.
 struct CountingOptics : HomogeneousRayOptics {
     using HomogeneousRayOptics::HomogeneousRayOptics;
     std::shared_ptr<std::atomic<int>> tabulated = std::make_shared<std::atomic<int>>(0);
@@ -217,11 +217,16 @@ TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-i
         const CountingOptics counting(cone, water.attenuation());
         const PathRadianceEstimator est(voi, VoiCylinder{}, counting, 1.0, map.batches, r);
         const auto vertical = est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2);
-        CHECK(*counting.tabulated == 9);
+        CHECK(*counting.tabulated == 1);  // one direction, nine rays
+        const auto every_way = est.estimate(rays_every_way(1.0), 2);
+        CHECK(*counting.tabulated == 3);  // down and up
+        std::vector<double> sums(map.batches, 0.0);
+        CHECK(est.accumulate(nadir_ray_grid(1.0, 4.0, 1, 1.0).front(), sums) > 0);
+        CHECK(*counting.tabulated == 4);  // one per accumulate() call on a vertical ray
         std::vector<Ray> tilted = nadir_ray_grid(1.0, 4.0, 3, 1.0);
         for (Ray& ray : tilted) ray.direction = glm::normalize(vec3(1e-9, 0.0, 1.0));
         CHECK(est.estimate(tilted, 2).photons_touched > 0);
-        CHECK(*counting.tabulated == 9);
+        CHECK(*counting.tabulated == 4);
         std::vector<FullRecord> full;
         for (const auto& rec : map.records) full.push_back(FullRecord::make(rec.position(), rec.direction(), rec.band(), rec.batch()));
         const VoiOctreeStore<FullRecord> full_store(full);
@@ -229,7 +234,16 @@ TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-i
         // The same photons with the same decoded directions, through the per-photon formula.
         CHECK(full_est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2).radiance.value ==
               Approx(vertical.radiance.value).epsilon(1e-12));
-        CHECK(*counting.tabulated == 9);
+        CHECK(*counting.tabulated == 4);
+        // The shared tables give each ray the sums accumulate() gives it alone.
+        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, 1.0, map.batches, r);
+        double total = 0.0;
+        for (const Ray& ray : rays_every_way(1.0)) {
+            std::vector<double> one(map.batches, 0.0);
+            plain.accumulate(ray, one);
+            for (double v : one) total += v;
+        }
+        CHECK(every_way.radiance.value * static_cast<double>(rays_every_way(1.0).size()) == Approx(total).epsilon(1e-12));
     }
 }
 

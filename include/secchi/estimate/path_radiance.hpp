@@ -13,10 +13,11 @@
 //
 // Vertical rays (every nadir or zenith ray, e.g. nadir_ray_grid's) through a map of records
 // whose direction stores its polar angle as a byte (CompactRecord): there cos psi depends on
-// that byte alone, so the optics may tabulate their angular part for the ray's 256 possible
-// values of cos psi once per ray (a few microseconds, against thousands of photons per ray)
-// and look it up per photon, skipping the direction decode, the dot product and the phase
-// function's interpolation. The result is bit-identical to the per-photon formula (see
+// that byte alone, so the optics may tabulate their angular part for the 256 possible
+// values of cos psi and look it up per photon, skipping the direction decode, the dot product
+// and the phase function's interpolation. The values are the same on every ray of one
+// direction (+z or -z): estimate() builds each direction's table once for all its rays,
+// accumulate() once per call (a few microseconds, against thousands of photons per ray). The result is bit-identical to the per-photon formula (see
 // detail::vertical_cosines for why); optics without the tabulated form, other records and
 // other rays take the per-photon formula.
 #include "secchi/core/error.hpp"
@@ -32,6 +33,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <ranges>
 #include <span>
 #include <string>
@@ -223,12 +225,8 @@ public:
     std::uint64_t accumulate(const Ray& ray, std::span<double> batch_sums) const {
         require(batch_sums.size() >= batches_, "batch_sums size", batch_sums.size(),
                 "must hold one sum per batch (the estimator's batches)");
-        if constexpr (PolarCodedRecord<Record> && CodedRayOptics<Optics>)
-            if (detail::is_vertical(ray)) return accumulate_coded(ray, batch_sums);
-        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
-            const double cos_psi = -glm::dot(rec.direction(), ray.direction);
-            return optics_.in_scatter(rec.position().z, cos_psi, ray, t);
-        });
+        if constexpr (coded_rays) return accumulate_ray(ray, batch_sums, vertical_tables(std::span(&ray, 1)));
+        else return accumulate_ray(ray, batch_sums, nullptr);
     }
 
     /// Radiance averaged over a set of rays (e.g. a grid of parallel rays in a horizontally
@@ -237,13 +235,17 @@ public:
     RadianceEstimate estimate(const std::vector<Ray>& rays, unsigned threads) const {
         std::vector<std::vector<double>> per_ray(rays.size(), std::vector<double>(batches_, 0.0));
         std::vector<std::uint64_t> touched(rays.size(), 0);
-        parallel_for(rays.size(), threads, [&](std::size_t i) {
-            // Sums on this thread's stack, copied out once: the rays' own vectors may share a
-            // cache line with a neighbour's that another thread is adding to.
-            std::array<double, max_batches> sums{};
-            touched[i] = accumulate(rays[i], std::span(sums.data(), batches_));
-            std::copy_n(sums.begin(), batches_, per_ray[i].begin());
-        });
+        auto sum_rays = [&](const auto& tables) {
+            parallel_for(rays.size(), threads, [&](std::size_t i) {
+                // Sums on this thread's stack, copied out once: the rays' own vectors may share
+                // a cache line with a neighbour's that another thread is adding to.
+                std::array<double, max_batches> sums{};
+                touched[i] = accumulate_ray(rays[i], std::span(sums.data(), batches_), tables);
+                std::copy_n(sums.begin(), batches_, per_ray[i].begin());
+            });
+        };
+        if constexpr (coded_rays) sum_rays(vertical_tables(rays));
+        else sum_rays(nullptr);
         std::vector<double> batch(batches_, 0.0);
         RadianceEstimate out;
         for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -260,15 +262,46 @@ public:
 private:
     using Record = std::remove_cvref_t<std::ranges::range_reference_t<decltype(std::declval<const Store&>().records())>>;
 
-    /// The same sum on a vertical ray: cos psi from the photon's polar code through a table
-    /// fixed for the ray (vertical_cosines; bit-identical to the per-photon formula).
-    std::uint64_t accumulate_coded(const Ray& ray, std::span<double> batch_sums) const
-        requires(PolarCodedRecord<Record> && CodedRayOptics<Optics>)
+    /// Whether vertical rays take the coded path: records with a polar code, optics that
+    /// tabulate their angular part.
+    static constexpr bool coded_rays = PolarCodedRecord<Record> && CodedRayOptics<Optics>;
+
+    /// The coded optics of the vertical directions among `rays`: [0] for +z, [1] for -z, each
+    /// built if some ray has that direction. cos psi takes the same 256 values on every ray
+    /// of one direction (vertical_cosines), so one table serves them all (a table costs
+    /// a few microseconds: 256 phase lookups scattered over the phase table).
+    auto vertical_tables(std::span<const Ray> rays) const
+        requires coded_rays
     {
-        const auto coded = optics_.for_cosines(detail::vertical_cosines<Record>(ray.direction.z));
+        using Coded = decltype(optics_.for_cosines(std::declval<const CodedCosines&>()));
+        std::array<std::optional<Coded>, 2> tables;
+        for (const Ray& ray : rays) {
+            if (!detail::is_vertical(ray)) continue;
+            auto& table = tables[ray.direction.z > 0.0 ? 0 : 1];
+            if (!table) table.emplace(optics_.for_cosines(detail::vertical_cosines<Record>(ray.direction.z)));
+        }
+        return tables;
+    }
+
+    /// accumulate() for one ray, with the vertical directions' tables (vertical_tables, or
+    /// nullptr without the coded path): the coded sum on a vertical ray, else the per-photon one.
+    template <class Tables>
+    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums, const Tables& tables) const {
+        if constexpr (coded_rays)
+            if (detail::is_vertical(ray)) return accumulate_coded(ray, batch_sums, *tables[ray.direction.z > 0.0 ? 0 : 1]);
+        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
+            const double cos_psi = -glm::dot(rec.direction(), ray.direction);
+            return optics_.in_scatter(rec.position().z, cos_psi, ray, t);
+        });
+    }
+
+    /// The same sum on a vertical ray: cos psi from the photon's polar code through the table
+    /// of the ray's direction (vertical_cosines; bit-identical to the per-photon formula).
+    template <class Coded>
+    std::uint64_t accumulate_coded(const Ray& ray, std::span<double> batch_sums, const Coded& coded) const {
 #if SECCHI_HAS_LANES
         if constexpr (requires(const std::uint8_t* k, const double* t, double* out) { coded.in_scatter_lanes(k, t, out); }) {
-            CodedRuns<std::remove_const_t<decltype(coded)>> sum{store_.records(), coded, ray, batch_sums};
+            CodedRuns<Coded> sum{store_.records(), coded, ray, batch_sums};
             volume_.gather(store_, ray, radius_, sum);
             return sum.touched;
         }
