@@ -623,6 +623,44 @@ TEST_CASE("VOI grid: along_stats counts the ranges and records a query scans", "
     REQUIRE(stats.tested < 300);
 }
 
+#if SECCHI_HAS_CYLINDER_SCAN
+TEST_CASE("the scan's vertical kernel gives the general kernel's hits and values bit for bit", "[stores][scan]") {
+    // Records in the unit cube; vertical rays down and up, through the cube and from outside
+    // it, with radii from a few records' spacing to most of the cube.
+    const auto records = make_records<CompactRecord>(Layout::uniform, 5037, 117);
+    const auto count = static_cast<std::uint32_t>(records.size());
+    std::vector<double> t[2], d2[2];
+    std::vector<std::uint32_t> offset[2];
+    for (int k = 0; k < 2; ++k) {
+        t[k].resize(count + detail::kScanSlack);
+        d2[k].resize(count + detail::kScanSlack);
+        offset[k].resize(count + detail::kScanSlack);
+    }
+    const Ray rays[] = {{{0.5, 0.5, -1.0}, {0.0, 0.0, 1.0}, 5.0},   {{0.3, 0.71, 0.2}, {0.0, 0.0, 1.0}, 0.5},
+                        {{0.62, 0.4, 0.9}, {0.0, 0.0, -1.0}, 0.7},  {{0.05, 0.93, 3.0}, {-0.0, 0.0, -1.0}, 10.0},
+                        {{1.3, 0.5, 0.5}, {0.0, -0.0, 1.0}, 0.3}};
+    std::size_t hits = 0;
+    for (const Ray& ray : rays) {
+        REQUIRE(is_vertical(ray));
+        for (const double r : {0.02, 0.1, 0.45}) {
+            const std::uint32_t n = detail::scan_cylinder_kernel<true>(records.data(), count, ray, r * r, t[0].data(),
+                                                                      d2[0].data(), offset[0].data());
+            const std::uint32_t general = detail::scan_cylinder_kernel<false>(records.data(), count, ray, r * r,
+                                                                             t[1].data(), d2[1].data(), offset[1].data());
+            INFO("ray from " << ray.origin.x << " " << ray.origin.y << " " << ray.origin.z << ", r " << r);
+            REQUIRE(n == general);
+            for (std::uint32_t k = 0; k < n; ++k) {
+                REQUIRE(offset[0][k] == offset[1][k]);
+                REQUIRE(std::bit_cast<std::uint64_t>(t[0][k]) == std::bit_cast<std::uint64_t>(t[1][k]));
+                REQUIRE(std::bit_cast<std::uint64_t>(d2[0][k]) == std::bit_cast<std::uint64_t>(d2[1][k]));
+            }
+            hits += n;
+        }
+    }
+    CHECK(hits > 2000);
+}
+#endif
+
 TEST_CASE("CylinderInterior accepts only boxes whose every point in_cylinder accepts", "[stores][bulk]") {
     PhotonRng rng(103, 0);
     std::size_t accepted = 0;

@@ -70,14 +70,6 @@ concept CodedRayOptics = RayOptics<O> && requires(const O o, const CodedCosines&
 };
 
 namespace detail {
-/// A ray whose direction is (0, 0, +-1) exactly (as every normalised vertical vector is): the
-/// rays whose cos psi is a function of the photon's polar code alone (vertical_cosines). Not
-/// dz != 0 alone: with |dz| tiny, dz cos_theta could underflow to a zero whose sign the
-/// azimuth terms decide.
-inline bool is_vertical(const Ray& ray) {
-    return ray.direction.x == 0.0 && ray.direction.y == 0.0 && std::abs(ray.direction.z) == 1.0;
-}
-
 /// cos psi = -dot(d, u) of a photon of polar code k on a vertical ray u = (0, 0, uz), uz = +-1,
 /// for each k: -(cos_theta_k uz). It equals the per-photon formula bit for bit, whatever the
 /// photon's azimuth: GLM's dot for dvec3 is (dx ux + dy uy) + dz uz. With ux, uy = +-0 and
@@ -276,7 +268,7 @@ private:
         using Coded = decltype(optics_.for_cosines(std::declval<const CodedCosines&>()));
         std::array<std::optional<Coded>, 2> tables;
         for (const Ray& ray : rays) {
-            if (!detail::is_vertical(ray)) continue;
+            if (!is_vertical(ray)) continue;
             auto& table = tables[ray.direction.z > 0.0 ? 0 : 1];
             if (!table) table.emplace(optics_.for_cosines(detail::vertical_cosines<Record>(ray.direction.z)));
         }
@@ -288,7 +280,7 @@ private:
     template <class Tables>
     std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums, const Tables& tables) const {
         if constexpr (coded_rays)
-            if (detail::is_vertical(ray)) return accumulate_coded(ray, batch_sums, *tables[ray.direction.z > 0.0 ? 0 : 1]);
+            if (is_vertical(ray)) return accumulate_coded(ray, batch_sums, *tables[ray.direction.z > 0.0 ? 0 : 1]);
         return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
             const double cos_psi = -glm::dot(rec.direction(), ray.direction);
             return optics_.in_scatter(rec.position().z, cos_psi, ray, t);

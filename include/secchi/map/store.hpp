@@ -18,6 +18,7 @@
 #include "secchi/core/math.hpp"
 #include "secchi/core/units.hpp"
 #include "secchi/map/record.hpp"
+#include <cmath>
 #include <concepts>
 #include <cstdint>
 #include <vector>
@@ -29,6 +30,16 @@ struct Ray {
     vec3 direction;  ///< unit vector
     double t_max;    ///< segment length
 };
+
+/// A ray whose direction is (0, 0, +-1) exactly, as every normalised vertical vector is (nadir
+/// and zenith views). Along it a point's t and distance are each one rounded operation of its
+/// coordinates (the leaf scan's vertical kernel, cylinder_scan.hpp), and cos psi is a function
+/// of a photon's polar angle alone (the estimator's coded path, path_radiance.hpp). Not dz !=
+/// 0 alone: with |dz| tiny, dz cos_theta could underflow to a zero whose sign the azimuth
+/// terms decide.
+inline bool is_vertical(const Ray& ray) {
+    return ray.direction.x == 0.0 && ray.direction.y == 0.0 && std::abs(ray.direction.z) == 1.0;
+}
 
 struct Hit {
     std::uint32_t index;  ///< index into the store's records()
