@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Markdown table of canonical-runner results for both stores, beside M93 Table 5 and the
-manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
-problems 1 and 2, metres for problem 3.
-usage: conformance_table.py conformance_kdtree.json conformance_voi.json"""
+"""Markdown table of canonical-runner results for each photon store, beside M93 Table 5 and
+the manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
+problems 1 and 2, metres for problem 3. A store's name is its file's: conformance_<store>.json.
+usage: conformance_table.py conformance_kdtree.json conformance_voi.json [conformance_voi-grid.json ...]"""
 import json
+import os
 import sys
 
 DIRSIG = {  # manual Tables 7.1 and 7.2 (single maps of up to 1e7 photons)
@@ -16,20 +17,34 @@ DIRSIG = {  # manual Tables 7.1 and 7.2 (single maps of up to 1e7 photons)
 QTY = {"Ed": 0, "Eou": 1, "Lu": 2}
 
 
-def main(kd_path, voi_path):
-    kd = {(e["problem"], e["depth"], e["quantity"]): e for e in json.load(open(kd_path))["entries"]}
-    voi = {(e["problem"], e["depth"], e["quantity"]): e for e in json.load(open(voi_path))["entries"]}
-    print("| problem | depth | qty | M93 mean | s/x | k-d tree (SE) | err | VOI (SE) | err | pass kd/voi | DIRSIG | DIRSIG err |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for key, a in kd.items():
-        b = voi[key]
+NAMES = {"kdtree": "k-d tree", "voi": "VOI octree", "voi-grid": "VOI grid"}
+
+
+def store_name(path):
+    stem = os.path.basename(path)
+    stem = stem[len("conformance_"):] if stem.startswith("conformance_") else stem
+    stem = stem[:-len(".json")] if stem.endswith(".json") else stem
+    return NAMES.get(stem, stem)
+
+
+def main(paths):
+    stores = [{(e["problem"], e["depth"], e["quantity"]): e for e in json.load(open(p))["entries"]} for p in paths]
+    names = [store_name(p) for p in paths]
+    verdict = lambda e: ("pass" if e["pass"] else "FAIL") if e["scored"] else "rep."
+    cells = lambda e: (f"{e['value']:.4g} ({100*e['se']/abs(e['value']) if e['value'] else float('inf'):.2f}%) "
+                       f"| {100*e['relative_error']:+.2f}%")
+    print("| problem | depth | qty | M93 mean | s/x | " + " | ".join(f"{n} (SE) | err" for n in names) +
+          " | pass " + "/".join(names) + " | DIRSIG | DIRSIG err |")
+    print("|---|---|---|---|---|" + "---|---|" * len(names) + "---|---|---|")
+    for key, a in stores[0].items():
+        entries = [store[key] for store in stores]
         d = DIRSIG[(key[0], int(key[1]))][QTY[key[2]]]
-        verdict = lambda e: ("pass" if e["pass"] else "FAIL") if e["scored"] else "rep."
-        print(f"| {key[0]} | {key[1]:g} | {key[2]} | {a['reference']:.3g} | {100*a['spread']:.1f}% "
-              f"| {a['value']:.4g} ({100*a['se']/abs(a['value']) if a['value'] else float('inf'):.2f}%) | {100*a['relative_error']:+.2f}% "
-              f"| {b['value']:.4g} ({100*b['se']/abs(b['value']) if b['value'] else float('inf'):.2f}%) | {100*b['relative_error']:+.2f}% "
-              f"| {verdict(a)}/{verdict(b)} | {d:.3g} | {100*(d-a['reference'])/a['reference']:+.1f}% |")
+        print(f"| {key[0]} | {key[1]:g} | {key[2]} | {a['reference']:.3g} | {100*a['spread']:.1f}% | "
+              + " | ".join(cells(e) for e in entries)
+              + f" | {'/'.join(verdict(e) for e in entries)} | {d:.3g} | {100*(d-a['reference'])/a['reference']:+.1f}% |")
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:3])
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    main(sys.argv[1:])
