@@ -66,8 +66,8 @@ inline constexpr std::uint32_t kScanSlack = 8;
 /// broadcast to every lane. (V is deduced: GCC warns where an intrinsic vector type, with its
 /// may_alias attribute, is named as a template argument.)
 ///
-/// Vertical: the same values on a vertical ray (is_vertical: u = (0, 0, uz), uz = +-1) in
-/// half the operations. There dx ux and dy uy are zeros, so t = dz uz, exact; t ux and t uy
+/// Vertical: the same values on a vertical ray (is_vertical: u = (0, 0, uz), uz = +-1) in 7
+/// operations instead of 12. There dx ux and dy uy are zeros, so t = dz uz, exact; t ux and t uy
 /// are zeros, so perp = (dx, dy, dz - dz uz uz) = (dx, dy, 0) exactly. distance2 is written
 /// as the same sum of the same three squares (pz = 0), so that a compiler that fuses
 /// multiply-adds fuses both forms alike: tests/test_stores.cpp compares the two kernels bit
