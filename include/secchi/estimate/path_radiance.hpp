@@ -17,9 +17,9 @@
 // values of cos psi and look it up per photon, skipping the direction decode, the dot product
 // and the phase function's interpolation. The values are the same on every ray of one
 // direction (+z or -z): estimate() builds each direction's table once for all its rays,
-// accumulate() once per call (a few microseconds, against thousands of photons per ray). The result is bit-identical to the per-photon formula (see
-// detail::vertical_cosines for why); optics without the tabulated form, other records and
-// other rays take the per-photon formula.
+// accumulate() once per call (a few microseconds, against thousands of photons per ray). The
+// result is bit-identical to the per-photon formula (see detail::vertical_cosines for why);
+// optics without the tabulated form, other records and other rays take the per-photon formula.
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/stats.hpp"
