@@ -16,8 +16,8 @@
 //             (octree and grid).
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
-//  - tune:    the VOI octree's leaf size, the VOI grid's cell shape, and the two on slanted
-//             rays, on the collect map.
+//  - tune:    the VOI octree's leaf size, the VOI grid's cell shape, the two on slanted rays,
+//             and the grid's cell shape on slanted rays, on the collect map.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
@@ -473,6 +473,40 @@ void suite_tune(const Options& o) {
                        fmt("%.4g", g.tested / nr) + " | " + rate_cell(gs.first, nr) + " | " +
                        fmt("%.4g", (v.tested + v.bulk) / nr) + " | " + rate_cell(vs.first, nr) + " | " +
                        fmt("%.3g", vs.first.median / gs.first.median) + " |");
+        }
+    }
+    out(o, "");
+
+    out(o, "### VOI grid: cell shape on slanted rays\n");
+    out(o, "The slanted rays above (r = 0.026), through grids of other cell shapes (columns w wide, cells h tall, "
+           "in units of r; at most 2 cells per record). Search only, counting collector, median of " +
+               std::to_string(o.repeats) + " runs; the last column divides by the default shape's rate (w = r/2, "
+               "h = r), timed in the same loop.\n");
+    out(o, "| theta (deg) | w / r | h / r | ranges/ray | tested/ray | hits/ray | rays/s [min-max] | / default |");
+    out(o, "|---|---|---|---|---|---|---|---|");
+    {
+        const double r = 0.026;
+        const std::pair<double, double> shapes[] = {{0.5, 1.0}, {0.25, 1.0}, {0.5, 0.5}, {0.5, 2.0}, {1.0, 1.0}, {1.0, 2.0}};
+        std::vector<VoiGridStore<CompactRecord>> grids;
+        for (const auto& [w, h] : shapes) grids.emplace_back(map.records, w * r, h * r);
+        for (double theta : {30.0, 60.0, 85.0}) {
+            std::vector<Ray> slanted;
+            for (Ray ray : rays) {
+                ray.direction = {std::sin(theta * deg), 0.0, std::cos(theta * deg)};
+                ray.t_max = 1.0;
+                slanted.push_back(ray);
+            }
+            double default_median = 0.0;
+            for (std::size_t i = 0; i < grids.size(); ++i) {
+                typename VoiGridStore<CompactRecord>::AlongStats g;
+                for (const Ray& ray : slanted) g += grids[i].along_stats(ray, Radius(r));
+                const auto gs = search_only(o.repeats, grids[i], VoiCylinder{}, slanted, r);
+                if (i == 0) default_median = gs.first.median;
+                out(o, "| " + fmt("%.0f", theta) + " | " + fmt("%.2g", shapes[i].first) + " | " + fmt("%.2g", shapes[i].second) +
+                           " | " + fmt("%.3g", g.ranges / nr) + " | " + fmt("%.4g", g.tested / nr) + " | " +
+                           fmt("%.4g", g.hits / nr) + " | " + rate_cell(gs.first, nr) + " | " +
+                           fmt("%.3g", default_median / gs.first.median) + " |");
+            }
         }
     }
     out(o, "");
