@@ -181,7 +181,7 @@ TransportResult<CompactRecord> compact_map(const Water& water, std::uint64_t pho
 }
 }  // namespace
 
-TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-identical to the per-photon formula") {
+TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identical to the per-photon formula") {
     const HenyeyGreensteinPhase hg(0.9);
     const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
     const auto map = compact_map(water, 40000);
@@ -213,7 +213,7 @@ TEST_CASE("Vertical rays through a compact map: the per-ray theta table is bit-i
         check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, 1.0, map.batches, r),
                             PathRadianceEstimator(kd, StepSpheres(8), per_photon, 1.0, map.batches, r), map.batches, rays);
     }
-    SECTION("the table is built once per vertical ray, never for tilted rays or full records") {
+    SECTION("a table is built once per vertical direction in estimate(), never for tilted rays or full records") {
         const CountingOptics counting(cone, water.attenuation());
         const PathRadianceEstimator est(voi, VoiCylinder{}, counting, 1.0, map.batches, r);
         const auto vertical = est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2);
