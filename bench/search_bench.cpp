@@ -16,8 +16,8 @@
 //             (octree and grid).
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
-//  - tune:    the VOI octree's leaf size, the VOI grid's cell shape, the two on slanted rays,
-//             and the grid's cell shape on slanted rays, on the collect map.
+//  - tune:    on the collect map, the VOI octree's leaf size and the VOI grid's cell shape;
+//             on slanted rays, the grid against the octree and the grid's cell shape.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
@@ -167,6 +167,18 @@ std::pair<Timing, double> search_only(int repeats, const Store& store, const Vol
 }
 
 std::string lu_cell(const Estimate& e) { return fmt("%.4e", e.value) + " +- " + fmt("%.1e", e.se); }
+
+/// The rays from the same origins, tilted by the zenith angle theta (degrees) in the x-z plane,
+/// each of length 1 (the tune suite's slanted rays).
+std::vector<Ray> tilted(const std::vector<Ray>& rays, double theta) {
+    std::vector<Ray> out;
+    for (Ray ray : rays) {
+        ray.direction = {std::sin(theta * deg), 0.0, std::cos(theta * deg)};
+        ray.t_max = 1.0;
+        out.push_back(ray);
+    }
+    return out;
+}
 
 void suite_collect(const Options& o) {
     const auto map = trace_2a<CompactRecord>(o.map_photons, 2);
@@ -455,12 +467,7 @@ void suite_tune(const Options& o) {
         const VoiGridStore<CompactRecord> grid(map.records, Radius(r));
         const VoiOctreeStore<CompactRecord> voi(map.records);
         for (double theta : {0.0, 30.0, 60.0, 85.0}) {
-            std::vector<Ray> slanted;
-            for (Ray ray : rays) {
-                ray.direction = {std::sin(theta * deg), 0.0, std::cos(theta * deg)};
-                ray.t_max = 1.0;
-                slanted.push_back(ray);
-            }
+            const std::vector<Ray> slanted = tilted(rays, theta);
             typename VoiGridStore<CompactRecord>::AlongStats g;
             typename VoiOctreeStore<CompactRecord>::AlongStats v;
             for (const Ray& ray : slanted) {
@@ -490,12 +497,7 @@ void suite_tune(const Options& o) {
         std::vector<VoiGridStore<CompactRecord>> grids;
         for (const auto& [w, h] : shapes) grids.emplace_back(map.records, w * r, h * r);
         for (double theta : {30.0, 60.0, 85.0}) {
-            std::vector<Ray> slanted;
-            for (Ray ray : rays) {
-                ray.direction = {std::sin(theta * deg), 0.0, std::cos(theta * deg)};
-                ray.t_max = 1.0;
-                slanted.push_back(ray);
-            }
+            const std::vector<Ray> slanted = tilted(rays, theta);
             double default_median = 0.0;
             for (std::size_t i = 0; i < grids.size(); ++i) {
                 typename VoiGridStore<CompactRecord>::AlongStats g;

@@ -32,8 +32,8 @@ struct Ray {
 };
 
 /// A ray whose direction is (0, 0, +-1) exactly, as every normalised vertical vector is (nadir
-/// and zenith views). Along it a point's t and distance are each one rounded operation of its
-/// coordinates (the leaf scan's vertical kernel, cylinder_scan.hpp), and cos psi is a function
+/// and zenith views). Along it a point's t is dz uz exactly and its squared distance needs
+/// only dx and dy (the leaf scan's vertical kernel, cylinder_scan.hpp), and cos psi is a function
 /// of a photon's polar angle alone (the estimator's coded path, path_radiance.hpp). Not dz !=
 /// 0 alone: with |dz| tiny, dz cos_theta could underflow to a zero whose sign the azimuth
 /// terms decide.
