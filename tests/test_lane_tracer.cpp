@@ -144,7 +144,7 @@ TEST_CASE("acos_unit is within 1.2e-7 rad of acos (Abramowitz and Stegun 4.4.46)
     CHECK(worst < 1.2e-7);
 }
 
-TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte for byte") {
+TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte for byte, the kept lanes in order") {
     const auto u = uniforms(3 * 8192, 3);
     std::vector<vec3> dirs;
     for (std::size_t i = 0; i + 1 < u.size(); i += 2) dirs.push_back(direction_of(u[i], u[i + 1]));
@@ -170,12 +170,18 @@ TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte for byte"
                             lanes_of([&](int l) { return 30.0 * u[i + l]; })};
         std::uint8_t batch[lane_width];
         for (int l = 0; l < lane_width; ++l) batch[l] = static_cast<std::uint8_t>((i + l) % 64);
+        // Every keep pattern in turn (all lanes kept every 2^width groups), band 3.
+        const unsigned keep = static_cast<unsigned>(i / lane_width) % (1u << lane_width);
         CompactRecord made[lane_width];
-        LaneRecords<CompactRecord>::make(p, d, band_index{0}, batch, made);
+        const std::size_t kept = LaneRecords<CompactRecord>::make_kept(p, d, band_index{3}, batch, keep, made);
+        std::size_t n = 0;
         for (int l = 0; l < lane_width; ++l) {
-            const CompactRecord ref = CompactRecord::make({p.x[l], p.y[l], p.z[l]}, dirs[i + l], band_index{0}, batch[l]);
-            differing += std::memcmp(&ref, &made[l], sizeof ref) != 0;
+            if (!((keep >> l) & 1u)) continue;
+            const CompactRecord ref = CompactRecord::make({p.x[l], p.y[l], p.z[l]}, dirs[i + l], band_index{3}, batch[l]);
+            differing += n >= kept || std::memcmp(&ref, &made[n], sizeof ref) != 0;
+            ++n;
         }
+        differing += n != kept;
     }
     CHECK(differing == 0);
 }

@@ -31,18 +31,17 @@ inline std::vector<Block> make_blocks(std::uint64_t photons, unsigned batches, s
 
 /// Record chunks (64 kB each) handed back once their records are in the map, for the
 /// blocks traced next. Shared by the workers of one run: one lock per chunk taken or given.
+/// A chunk is a vector of per_chunk records (its slots, written over from the start each time
+/// it is used), so that a block can write a lane group's records into it before knowing how
+/// many it keeps (RecordChunks::room).
 template <class Record>
 class ChunkPool {
 public:
     static constexpr std::size_t per_chunk = std::max<std::size_t>(1, 65536 / sizeof(Record));
 
-    /// A new empty chunk with room for per_chunk records.
-    static std::vector<Record> fresh() {
-        std::vector<Record> chunk;
-        chunk.reserve(per_chunk);
-        return chunk;
-    }
-    /// An empty chunk with room for per_chunk records: one given back, else a fresh one.
+    /// A new chunk of per_chunk slots.
+    static std::vector<Record> fresh() { return std::vector<Record>(per_chunk); }
+    /// A chunk of per_chunk slots: one given back, else a fresh one.
     std::vector<Record> take() {
         {
             std::lock_guard lock(mutex_);
@@ -55,7 +54,6 @@ public:
         return fresh();
     }
     void give(std::vector<Record>&& chunk) {
-        chunk.clear();
         std::lock_guard lock(mutex_);
         free_.push_back(std::move(chunk));
     }
@@ -80,29 +78,41 @@ public:
     explicit RecordChunks(ChunkPool<Record>* pool) : pool_(pool) {}
 
     void push_back(const Record& r) {
-        if (chunks_.empty() || chunks_.back().size() == ChunkPool<Record>::per_chunk) [[unlikely]]
-            chunks_.push_back(new_chunk());
-        chunks_.back().push_back(r);
+        *room(1) = r;
+        commit(1);
     }
+    /// Room for n <= per_chunk records after the last: write them there, then commit() those
+    /// kept (photons in lanes write every lane's record and keep some; transport/lane_tracer.hpp).
+    [[nodiscard]] Record* room(std::size_t n) {
+        if (chunks_.empty() || used_.back() + n > ChunkPool<Record>::per_chunk) [[unlikely]] {
+            chunks_.push_back(pool_ ? pool_->take() : ChunkPool<Record>::fresh());
+            used_.push_back(0);
+        }
+        return chunks_.back().data() + used_.back();
+    }
+    /// Keeps the first n records written at room().
+    void commit(std::size_t n) { used_.back() += n; }
+
     [[nodiscard]] std::size_t size() const {
         std::size_t n = 0;
-        for (const auto& c : chunks_) n += c.size();
+        for (std::size_t used : used_) n += used;
         return n;
     }
     /// Appends the records to `out` in order and gives the chunks back (to the pool, or frees them).
     void move_to(std::vector<Record>& out) {
-        for (auto& c : chunks_) {
-            out.insert(out.end(), c.begin(), c.end());
-            if (pool_) pool_->give(std::move(c));
+        for (std::size_t i = 0; i < chunks_.size(); ++i) {
+            const auto first = chunks_[i].begin();
+            out.insert(out.end(), first, first + static_cast<std::ptrdiff_t>(used_[i]));
+            if (pool_) pool_->give(std::move(chunks_[i]));
         }
         std::vector<std::vector<Record>>().swap(chunks_);
+        std::vector<std::size_t>().swap(used_);
     }
 
 private:
-    std::vector<Record> new_chunk() { return pool_ ? pool_->take() : ChunkPool<Record>::fresh(); }
-
     ChunkPool<Record>* pool_ = nullptr;
     std::vector<std::vector<Record>> chunks_;
+    std::vector<std::size_t> used_;  ///< records kept in each chunk
 };
 
 /// The photon map, built in block order while blocks finish in any order: `finished(i)`

@@ -266,7 +266,7 @@ private:
 
     /// Equal-flux storage (PhotonTracer::store_event without depth importance): every event
     /// of an analog photon, else with probability equal to the photon's weight. The records
-    /// are made for all lanes at once (LaneRecords) and appended in lane order.
+    /// are made for all lanes at once (LaneRecords) and the kept ones appended in lane order.
     void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
                       detail::BlockResult<Record>& out) const {
         Mask keep = scatters && Mask(L.stores, aligned);
@@ -275,9 +275,9 @@ private:
         const lanes::Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
                                    Reals(L.z, aligned)};
         const lanes::Vec3 direction{Reals(L.dx, aligned), Reals(L.dy, aligned), Reals(L.dz, aligned)};
-        Record records[width];
-        LaneRecords<Record>::make(position, direction, band_index{0}, L.batch, records);
-        lanes::for_each(keep, [&](int l) { out.records.push_back(records[l]); });
+        Record* room = out.records.room(width);
+        out.records.commit(LaneRecords<Record>::make_kept(position, direction, band_index{0}, L.batch,
+                                                          lanes::bits_of(keep), room));
     }
 
     /// The scattered lanes take their new direction and weight, one order higher.
