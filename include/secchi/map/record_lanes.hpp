@@ -108,8 +108,8 @@ struct LaneRecords<CompactRecord> {
     /// floats, and that word) are transposed into four records in registers (rounding to float
     /// as static_cast does), instead of lane by lane (64 instructions per four records, 16 with
     /// the transposition: valgrind).
-    static std::size_t make_kept(const lanes::Vec3& p, const lanes::Vec3& d, band_index band,
-                                 const std::uint8_t* batch, unsigned keep, CompactRecord* out) {
+    SECCHI_KERNEL static std::size_t make_kept(const lanes::Vec3& p, const lanes::Vec3& d, band_index band,
+                                               const std::uint8_t* batch, unsigned keep, CompactRecord* out) {
         constexpr int width = lanes::lane_width;
         static_assert(std::endian::native == std::endian::little, "the record's last word is built little-endian");
         using Words32 = lanes::stdx::rebind_simd_t<std::int32_t, lanes::Reals>;

@@ -8,6 +8,7 @@
 //    weighted by 1/|cos| would have unbounded variance near grazing; the track length is
 //    bounded by the free path. The layer [z - D/2, z + D/2] (or [0, D] at the surface) biases
 //    an exponential profile exp(-K z) by (K D)^2 / 24 (centred layer).
+#include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
 #include <algorithm>
 #include <array>
@@ -88,8 +89,8 @@ public:
     /// each layer's tallies summed per lane into `tally` (the caller sums the lanes).
     /// tests/test_lane_tracer.cpp checks it against record().
     template <class Real, class Mask>
-    void record_lanes(const Real& z0, const Real& z1, const Real& uz, const Real& s, const Real& w, const Mask& active,
-                      std::array<Real, 4>* tally) const {
+    SECCHI_KERNEL void record_lanes(const Real& z0, const Real& z1, const Real& uz, const Real& s, const Real& w,
+                                    const Mask& active, std::array<Real, 4>* tally) const {
         using std::abs, std::max, std::min;
         const Real z_min = min(z0, z1), z_max = max(z0, z1), z_scale = abs(z0) + abs(z1);
         for (std::size_t i = 0; i < depths_.size(); ++i) {

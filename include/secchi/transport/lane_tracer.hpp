@@ -170,7 +170,7 @@ private:
     }
 
     /// Every lane's photon to its next event: PhotonTracer::follow's loop body, per lane.
-    void step(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
+    SECCHI_KERNEL void step(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
         StepUniforms u;
         draw(L, u);
         const Mask alive(L.alive, aligned);
@@ -211,26 +211,31 @@ private:
         const auto [cos_psi, phi] = scattering_angles(u, Reals(L.z, aligned));
         const lanes::Vec3 after = rotate_direction(before, cos_psi, phi);
 
-        lanes::for_each(at_boundary, [&](int l) { boundary(L, l, z_free, out); });
-        lanes::for_each(truncated, [&](int l) {
-            out.ledger.truncated += L.w[l];
-            L.alive[l] = false;
-        });
-        lanes::for_each(absorbed, [&](int l) { L.alive[l] = false; });
         store_events(L, scatters, w_after, u_absorb_or_store, out);
         scatter(L, scatters, w_after, after);
-        if (this->s_.roulette_weight != 0.0)
-            lanes::for_each(scatters && w_after < this->s_.roulette_weight, [&](int l) {
+        Mask roulette(false);
+        if (this->s_.roulette_weight != 0.0) roulette = scatters && w_after < this->s_.roulette_weight;
+        // What only some photons meet, in one pass over their lanes in lane order (each kind
+        // of event adds to its own ledger entries, so their sums keep the lanes' order); a lane
+        // whose photon ended takes the block's next one.
+        lanes::for_each(at_boundary || truncated || absorbed || roulette, [&](int l) {
+            if (at_boundary[l]) {
+                boundary(L, l, z_free, out);
+            } else if (truncated[l]) {
+                out.ledger.truncated += L.w[l];
+                L.alive[l] = false;
+            } else if (absorbed[l]) {
+                L.alive[l] = false;
+            } else {
                 per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) { return this->roulette(p, rng, out.ledger); });
-            });
-        lanes::for_each(alive, [&](int l) {  // lanes whose photon ended take the block's next one
+            }
             if (!L.alive[l]) start(L, l, next, end, out.ledger);
         });
     }
 
     /// PhotonTracer::fly per lane: the detectors (in the vectors, or lane by lane when the
     /// weight decays along the flight), continuous absorption, the move.
-    void fly(Lanes& L, const Mask& alive, const Reals& t, detail::BlockResult<Record>& out) const {
+    SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, detail::BlockResult<Record>& out) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         const Reals z1 = z + dz * t;
         if (!this->continuous_) {
@@ -267,8 +272,8 @@ private:
     /// Equal-flux storage (PhotonTracer::store_event without depth importance): every event
     /// of an analog photon, else with probability equal to the photon's weight. The records
     /// are made for all lanes at once (LaneRecords) and the kept ones appended in lane order.
-    void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
-                      detail::BlockResult<Record>& out) const {
+    SECCHI_KERNEL void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
+                                    detail::BlockResult<Record>& out) const {
         Mask keep = scatters && Mask(L.stores, aligned);
         if (this->s_.absorption != AbsorptionMode::analog) keep = keep && u < w;
         if (none_of(keep)) return;
