@@ -101,16 +101,20 @@ TEST_CASE("exp in lanes equals exp_table lane by lane") {
     CHECK(worst == 0.0);  // the same operations: the estimator's sums rely on it (test_estimate.cpp)
 }
 
-TEST_CASE("Philox uniforms in lanes equal PhotonRng's, bit for bit") {
+TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's, bit for bit") {
     const std::array<std::uint32_t, 2> key{0x9abcdef0u, 0x12345678u};
     for (std::uint64_t first : {0ull, 1ull << 31, (1ull << 32) - 3, 0xfedcba9876543210ull}) {
         alignas(64) std::uint64_t block[lane_width], stream[lane_width];
         alignas(64) double u[4][lane_width];
         for (int l = 0; l < lane_width; ++l) block[l] = first + 977 * l, stream[l] = ~first - 13 * l;
+        alignas(64) std::uint32_t bits[4][lane_width];
         lanes::philox_uniforms(block, stream, key, {u[0], u[1], u[2], u[3]});
+        lanes::philox_words(block, stream, key, {bits[0], bits[1], bits[2], bits[3]});
         for (int l = 0; l < lane_width; ++l) {
             PhotonRng rng(0x123456789abcdef0ull, stream[l], block[l]);
             for (int k = 0; k < 4; ++k) REQUIRE(u[k][l] == rng.uniform());
+            const auto words = philox_block(block[l], stream[l], key);
+            for (int k = 0; k < 4; ++k) REQUIRE(bits[k][l] == words[k]);
         }
     }
 }

@@ -79,6 +79,56 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
     return lookup(table, stdx::static_simd_cast<Ints>(index));
 }
 
+#if defined(__AVX512DQ__)
+/// Philox4x32-10 (philox_block, core/rng.hpp) for every lane, on vectors of 64-bit words each
+/// holding a 32-bit word: AVX-512DQ has the 64-bit multiply per lane.
+struct PhiloxWords {
+    Words x[4];
+};
+SECCHI_KERNEL PhiloxWords philox_rounds(const std::uint64_t* block, const std::uint64_t* stream,
+                                        std::array<std::uint32_t, 2> key) {
+    const Words lo32(0xffffffffull), b(block, stdx::element_aligned), i(stream, stdx::element_aligned);
+    PhiloxWords r{{b & lo32, b >> 32, i & lo32, i >> 32}};
+    Words(&x)[4] = r.x;
+    for (int round = 0; round < 10; ++round) {
+        const Words p0 = x[0] * Words(0xD2511F53ull), p1 = x[2] * Words(0xCD9E8D57ull);
+        x[0] = (p1 >> 32) ^ x[1] ^ Words(key[0]);
+        x[1] = p1 & lo32;
+        x[2] = (p0 >> 32) ^ x[3] ^ Words(key[1]);
+        x[3] = p0 & lo32;
+        key[0] += 0x9E3779B9u;
+        key[1] += 0xBB67AE85u;
+    }
+    return r;
+}
+#elif defined(__AVX2__)
+/// The same rounds for four lanes per 256-bit vector: every multiply has both factors below
+/// 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction.
+struct PhiloxWords4 {
+    __m256i x[4];
+};
+SECCHI_KERNEL PhiloxWords4 philox_rounds4(const std::uint64_t* block, const std::uint64_t* stream,
+                                          std::array<std::uint32_t, 2> key) {
+    const __m256i lo32 = _mm256_set1_epi64x(0xffffffffll), m0 = _mm256_set1_epi64x(0xD2511F53ll),
+                  m1 = _mm256_set1_epi64x(0xCD9E8D57ll);
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block));
+    const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stream));
+    PhiloxWords4 r{{_mm256_and_si256(b, lo32), _mm256_srli_epi64(b, 32), _mm256_and_si256(i, lo32),
+                    _mm256_srli_epi64(i, 32)}};
+    __m256i(&x)[4] = r.x;
+    for (int round = 0; round < 10; ++round) {
+        const __m256i p0 = _mm256_mul_epu32(x[0], m0), p1 = _mm256_mul_epu32(x[2], m1);
+        x[0] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), x[1]), _mm256_set1_epi64x(key[0]));
+        x[1] = _mm256_and_si256(p1, lo32);
+        x[2] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), x[3]), _mm256_set1_epi64x(key[1]));
+        x[3] = _mm256_and_si256(p0, lo32);
+        key[0] += 0x9E3779B9u;
+        key[1] += 0xBB67AE85u;
+    }
+    return r;
+}
+#endif
+
 /// One Philox4x32-10 block per lane (philox_block, core/rng.hpp) from 64-bit block and
 /// stream numbers, as four uniforms per lane: u[k] in lane l is
 /// uniform_from_bits(philox_block(block_l, stream_l, key)[k]) exactly (tests/test_lane_tracer.cpp).
@@ -95,42 +145,16 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, std::array<std::uint32_t, 2> key,
                             double* const (&u)[4]) {
 #if defined(__AVX512DQ__)
-    const Words lo32(0xffffffffull), b(block, stdx::element_aligned), i(stream, stdx::element_aligned);
-    Words x[4] = {b & lo32, b >> 32, i & lo32, i >> 32};
-    for (int round = 0; round < 10; ++round) {
-        const Words p0 = x[0] * Words(0xD2511F53ull), p1 = x[2] * Words(0xCD9E8D57ull);
-        x[0] = (p1 >> 32) ^ x[1] ^ Words(key[0]);
-        x[1] = p1 & lo32;
-        x[2] = (p0 >> 32) ^ x[3] ^ Words(key[1]);
-        x[3] = p0 & lo32;
-        key[0] += 0x9E3779B9u;
-        key[1] += 0xBB67AE85u;
-    }
+    const auto [x] = philox_rounds(block, stream, key);
     for (int k = 0; k < 4; ++k) {
         const Reals word = stdx::__proposed::simd_bit_cast<Reals>(x[k] | Words(0x4330000000000000ull)) - 0x1p52;
         ((word + 0.5) * 0x1p-32).copy_to(u[k], aligned);
     }
 #elif defined(__AVX2__)
-    // The same rounds, four lanes per 256-bit vector: every multiply has both factors below
-    // 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction.
-    const __m256i lo32 = _mm256_set1_epi64x(0xffffffffll), m0 = _mm256_set1_epi64x(0xD2511F53ll),
-                  m1 = _mm256_set1_epi64x(0xCD9E8D57ll), exponent = _mm256_set1_epi64x(0x4330000000000000ll);
     static_assert(lane_width % 4 == 0, "with AVX2 the lanes are 4 doubles (or 8, AVX-512F without DQ)");
+    const __m256i exponent = _mm256_set1_epi64x(0x4330000000000000ll);
     for (int g = 0; g < lane_width; g += 4) {
-        const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block + g));
-        const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stream + g));
-        __m256i x[4] = {_mm256_and_si256(b, lo32), _mm256_srli_epi64(b, 32), _mm256_and_si256(i, lo32),
-                        _mm256_srli_epi64(i, 32)};
-        std::array<std::uint32_t, 2> k = key;
-        for (int round = 0; round < 10; ++round) {
-            const __m256i p0 = _mm256_mul_epu32(x[0], m0), p1 = _mm256_mul_epu32(x[2], m1);
-            x[0] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), x[1]), _mm256_set1_epi64x(k[0]));
-            x[1] = _mm256_and_si256(p1, lo32);
-            x[2] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), x[3]), _mm256_set1_epi64x(k[1]));
-            x[3] = _mm256_and_si256(p0, lo32);
-            k[0] += 0x9E3779B9u;
-            k[1] += 0xBB67AE85u;
-        }
+        const auto [x] = philox_rounds4(block + g, stream + g, key);
         for (int w = 0; w < 4; ++w) {
             const __m256d word = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(x[w], exponent)), _mm256_set1_pd(0x1p52));
             _mm256_store_pd(u[w] + g, _mm256_mul_pd(_mm256_add_pd(word, _mm256_set1_pd(0.5)), _mm256_set1_pd(0x1p-32)));
@@ -140,6 +164,30 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
     for (int l = 0; l < lane_width; ++l) {
         const auto r = philox_block(block[l], stream[l], key);
         for (int k = 0; k < 4; ++k) u[k][l] = uniform_from_bits(r[k]);
+    }
+#endif
+}
+
+/// The same blocks as 32-bit words: bits[k][l] = philox_block(block_l, stream_l, key)[k]
+/// (arrays of lane_width words), for PhotonRng's first block of photons launched in lanes.
+inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream, std::array<std::uint32_t, 2> key,
+                         std::uint32_t* const (&bits)[4]) {
+#if defined(__AVX512DQ__)
+    using Words32 = stdx::rebind_simd_t<std::uint32_t, Reals>;
+    const auto [x] = philox_rounds(block, stream, key);
+    for (int k = 0; k < 4; ++k) stdx::static_simd_cast<Words32>(x[k]).copy_to(bits[k], stdx::element_aligned);
+#elif defined(__AVX2__)
+    const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    for (int g = 0; g < lane_width; g += 4) {
+        const auto [x] = philox_rounds4(block + g, stream + g, key);
+        for (int k = 0; k < 4; ++k)
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(bits[k] + g),
+                             _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(x[k], low_halves)));
+    }
+#else
+    for (int l = 0; l < lane_width; ++l) {
+        const auto r = philox_block(block[l], stream[l], key);
+        for (int k = 0; k < 4; ++k) bits[k][l] = r[k];
     }
 #endif
 }

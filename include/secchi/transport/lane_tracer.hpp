@@ -151,16 +151,15 @@ private:
         put(L, l, p);
     }
 
-    /// Block 0 of the streams of the block's next `width` photons (a loop the compiler
-    /// vectorises): the launches of the photons after those already launched.
+    /// Block 0 of the streams of the block's next `width` photons, in the vectors: the
+    /// launches of the photons after those already launched.
     void prepare(Launches& next, std::uint64_t end) const {
         next.first += next.count;
         next.count = std::min<std::uint64_t>(width, end - next.first);
         next.used = 0;
-        for (int l = 0; l < width; ++l) {
-            const auto r = philox_block(0, next.first + l, key_);
-            for (int k = 0; k < 4; ++k) next.bits[k][l] = r[k];
-        }
+        alignas(64) std::uint64_t first_block[width] = {}, stream[width];
+        for (int l = 0; l < width; ++l) stream[l] = next.first + l;
+        lanes::philox_words(first_block, stream, key_, {next.bits[0], next.bits[1], next.bits[2], next.bits[3]});
     }
 
     /// One Philox block per lane, as four uniforms.
