@@ -173,13 +173,14 @@ public:
     }
     void draw(V (&u)[4]) {
         alignas(64) double w[4][lane_count];
-        lanes::philox_uniforms(ctr_, stream_, {1, 0}, {w[0], w[1], w[2], w[3]});  // seed 1
+        lanes::philox_uniforms(ctr_, stream_, key_, {w[0], w[1], w[2], w[3]});
         for (int k = 0; k < 4; ++k) u[k] = V(w[k], lanes::aligned);
         for (auto& c : ctr_) ++c;
     }
 
 private:
     std::uint64_t ctr_[lane_count] = {}, stream_[lane_count] = {};
+    lanes::PhiloxKey key_{{1, 0}};  // seed 1
 };
 
 /// The bare walk with one photon per lane, branch-free except where a photon ends.

@@ -108,8 +108,8 @@ TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's, bit for bit") {
         alignas(64) double u[4][lane_width];
         for (int l = 0; l < lane_width; ++l) block[l] = first + 977 * l, stream[l] = ~first - 13 * l;
         alignas(64) std::uint32_t bits[4][lane_width];
-        lanes::philox_uniforms(block, stream, key, {u[0], u[1], u[2], u[3]});
-        lanes::philox_words(block, stream, key, {bits[0], bits[1], bits[2], bits[3]});
+        lanes::philox_uniforms(block, stream, lanes::PhiloxKey(key), {u[0], u[1], u[2], u[3]});
+        lanes::philox_words(block, stream, lanes::PhiloxKey(key), {bits[0], bits[1], bits[2], bits[3]});
         for (int l = 0; l < lane_width; ++l) {
             PhotonRng rng(0x123456789abcdef0ull, stream[l], block[l]);
             for (int k = 0; k < 4; ++k) REQUIRE(u[k][l] == rng.uniform());

@@ -79,6 +79,23 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
     return lookup(table, stdx::static_simd_cast<Ints>(index));
 }
 
+/// Philox's 64-bit key (two words) and, for the AVX2 rounds, its ten round keys broadcast
+/// once (per tracer) rather than in every block's rounds (two instructions each, 40 per block).
+struct PhiloxKey {
+    explicit PhiloxKey(std::array<std::uint32_t, 2> key) : words(key) {
+#if defined(__AVX2__) && !defined(__AVX512DQ__)
+        for (int r = 0; r < 10; ++r) {
+            round[r][0] = _mm256_set1_epi64x(static_cast<std::uint32_t>(key[0] + r * 0x9E3779B9u));
+            round[r][1] = _mm256_set1_epi64x(static_cast<std::uint32_t>(key[1] + r * 0xBB67AE85u));
+        }
+#endif
+    }
+    std::array<std::uint32_t, 2> words;
+#if defined(__AVX2__) && !defined(__AVX512DQ__)
+    __m256i round[10][2];
+#endif
+};
+
 #if defined(__AVX512DQ__)
 /// Philox4x32-10 (philox_block, core/rng.hpp) for every lane, on vectors of 64-bit words each
 /// holding a 32-bit word: AVX-512DQ has the 64-bit multiply per lane.
@@ -86,7 +103,8 @@ struct PhiloxWords {
     Words x[4];
 };
 SECCHI_KERNEL PhiloxWords philox_rounds(const std::uint64_t* block, const std::uint64_t* stream,
-                                        std::array<std::uint32_t, 2> key) {
+                                        const PhiloxKey& philox_key) {
+    std::array<std::uint32_t, 2> key = philox_key.words;
     const Words lo32(0xffffffffull), b(block, stdx::element_aligned), i(stream, stdx::element_aligned);
     PhiloxWords r{{b & lo32, b >> 32, i & lo32, i >> 32}};
     Words(&x)[4] = r.x;
@@ -103,27 +121,25 @@ SECCHI_KERNEL PhiloxWords philox_rounds(const std::uint64_t* block, const std::u
 }
 #elif defined(__AVX2__)
 /// The same rounds for four lanes per 256-bit vector: every multiply has both factors below
-/// 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction.
+/// 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction. It
+/// reads only the low half of each 64-bit lane, so the words are not masked to 32 bits between
+/// rounds: a lane's low half is the Philox word, its high half junk (mask it to use the word).
 struct PhiloxWords4 {
     __m256i x[4];
 };
 SECCHI_KERNEL PhiloxWords4 philox_rounds4(const std::uint64_t* block, const std::uint64_t* stream,
-                                          std::array<std::uint32_t, 2> key) {
-    const __m256i lo32 = _mm256_set1_epi64x(0xffffffffll), m0 = _mm256_set1_epi64x(0xD2511F53ll),
-                  m1 = _mm256_set1_epi64x(0xCD9E8D57ll);
+                                          const PhiloxKey& key) {
+    const __m256i m0 = _mm256_set1_epi64x(0xD2511F53ll), m1 = _mm256_set1_epi64x(0xCD9E8D57ll);
     const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block));
     const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stream));
-    PhiloxWords4 r{{_mm256_and_si256(b, lo32), _mm256_srli_epi64(b, 32), _mm256_and_si256(i, lo32),
-                    _mm256_srli_epi64(i, 32)}};
+    PhiloxWords4 r{{b, _mm256_srli_epi64(b, 32), i, _mm256_srli_epi64(i, 32)}};
     __m256i(&x)[4] = r.x;
     for (int round = 0; round < 10; ++round) {
         const __m256i p0 = _mm256_mul_epu32(x[0], m0), p1 = _mm256_mul_epu32(x[2], m1);
-        x[0] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), x[1]), _mm256_set1_epi64x(key[0]));
-        x[1] = _mm256_and_si256(p1, lo32);
-        x[2] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), x[3]), _mm256_set1_epi64x(key[1]));
-        x[3] = _mm256_and_si256(p0, lo32);
-        key[0] += 0x9E3779B9u;
-        key[1] += 0xBB67AE85u;
+        x[0] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), x[1]), key.round[round][0]);
+        x[1] = p1;
+        x[2] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), x[3]), key.round[round][1]);
+        x[3] = p0;
     }
     return r;
 }
@@ -142,7 +158,7 @@ SECCHI_KERNEL PhiloxWords4 philox_rounds4(const std::uint64_t* block, const std:
 /// 32 x 32 -> 64-bit multiplies (the vector rounds measured 1.06x slower with SSE2).
 /// The lanes' block and stream numbers are read from `block` and `stream`, the uniforms
 /// written to u[0..3] (arrays of lane_width doubles, vector-aligned).
-inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, std::array<std::uint32_t, 2> key,
+inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             double* const (&u)[4]) {
 #if defined(__AVX512DQ__)
     const auto [x] = philox_rounds(block, stream, key);
@@ -152,17 +168,20 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
     }
 #elif defined(__AVX2__)
     static_assert(lane_width % 4 == 0, "with AVX2 the lanes are 4 doubles (or 8, AVX-512F without DQ)");
+    // A word w becomes 2^52 + w by taking the high half from 2^52's bits (a blend, which also
+    // drops the junk), then (2^52 + w) - (2^52 - 1/2) = w + 1/2 exactly (Sterbenz), times 2^-32.
     const __m256i exponent = _mm256_set1_epi64x(0x4330000000000000ll);
     for (int g = 0; g < lane_width; g += 4) {
         const auto [x] = philox_rounds4(block + g, stream + g, key);
         for (int w = 0; w < 4; ++w) {
-            const __m256d word = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(x[w], exponent)), _mm256_set1_pd(0x1p52));
-            _mm256_store_pd(u[w] + g, _mm256_mul_pd(_mm256_add_pd(word, _mm256_set1_pd(0.5)), _mm256_set1_pd(0x1p-32)));
+            const __m256d shifted = _mm256_castsi256_pd(_mm256_blend_epi32(x[w], exponent, 0b10101010));
+            _mm256_store_pd(u[w] + g, _mm256_mul_pd(_mm256_sub_pd(shifted, _mm256_set1_pd(0x1p52 - 0.5)),
+                                                    _mm256_set1_pd(0x1p-32)));
         }
     }
 #else
     for (int l = 0; l < lane_width; ++l) {
-        const auto r = philox_block(block[l], stream[l], key);
+        const auto r = philox_block(block[l], stream[l], key.words);
         for (int k = 0; k < 4; ++k) u[k][l] = uniform_from_bits(r[k]);
     }
 #endif
@@ -170,7 +189,7 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
 
 /// The same blocks as 32-bit words: bits[k][l] = philox_block(block_l, stream_l, key)[k]
 /// (arrays of lane_width words), for PhotonRng's first block of photons launched in lanes.
-inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream, std::array<std::uint32_t, 2> key,
+inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                          std::uint32_t* const (&bits)[4]) {
 #if defined(__AVX512DQ__)
     using Words32 = stdx::rebind_simd_t<std::uint32_t, Reals>;
@@ -186,7 +205,7 @@ inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream
     }
 #else
     for (int l = 0; l < lane_width; ++l) {
-        const auto r = philox_block(block[l], stream[l], key);
+        const auto r = philox_block(block[l], stream[l], key.words);
         for (int k = 0; k < 4; ++k) bits[k][l] = r[k];
     }
 #endif

@@ -47,7 +47,7 @@ public:
     LaneTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
                TransportSettings settings)
         : Base(medium, slab, surface, sun, supported(std::move(settings))),
-          key_{static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)},
+          key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(
               medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0)) {}
 
@@ -318,7 +318,7 @@ private:
         }
     }
 
-    std::array<std::uint32_t, 2> key_;  ///< the seed as Philox's key (PhotonRng's)
+    lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)
     double path_coefficient_;           ///< c, or b with continuous absorption (1/m)
 };
 
