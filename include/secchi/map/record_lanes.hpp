@@ -34,10 +34,13 @@ struct LaneRecords {
 namespace detail {
 /// acos x for 0 <= x <= 1 by Abramowitz and Stegun 4.4.46: sqrt(1 - x) times a polynomial
 /// of degree 7, error 2.2e-8 rad (A&S state 2e-8; measured in tests/test_lane_tracer.cpp).
+/// The polynomial by Estrin's scheme (pairs of terms, then pairs of pairs: three multiply-adds
+/// deep, not seven), beside the square root.
 SECCHI_KERNEL lanes::Reals acos_unit(const lanes::Reals& x) {
-    return lanes::stdx::sqrt(1.0 - x) *
-           (1.5707963050 + x * (-0.2145988016 + x * (0.0889789874 + x * (-0.0501743046 + x * (0.0308918810 +
-            x * (-0.0170881256 + x * (0.0066700901 - 0.0012624911 * x)))))));
+    const lanes::Reals x2 = x * x, x4 = x2 * x2;
+    const lanes::Reals p01 = 1.5707963050 - 0.2145988016 * x, p23 = 0.0889789874 - 0.0501743046 * x,
+                       p45 = 0.0308918810 - 0.0170881256 * x, p67 = 0.0066700901 - 0.0012624911 * x;
+    return lanes::stdx::sqrt(1.0 - x) * ((p01 + x2 * p23) + x4 * (p45 + x2 * p67));
 }
 
 /// encode_theta per lane (the byte as a double). Its guess comes from acos_unit (within
@@ -60,20 +63,23 @@ SECCHI_KERNEL lanes::Reals encode_theta(const lanes::Reals& dz) {
     return k;
 }
 
-/// atan r for r in [0, 1], to 3e-9 rad: atan r = pi/4 + atan((r - 1)/(r + 1)) above
-/// tan(pi/8), which leaves |x| <= tan(pi/8) for the Taylor series to x^17.
+/// atan r for r in [0, 1], to 1.5e-9 rad (tests/test_lane_tracer.cpp): r times a polynomial
+/// of degree 9 in t = r^2, a Chebyshev fit of atan(sqrt t)/sqrt t on [0, 1] (mpmath's
+/// chebyfit, error 2.8e-9), by Estrin's scheme. It needs no division (the reduction of
+/// atan r to pi/4 + atan((r - 1)/(r + 1)) above tan(pi/8) took one, on the way to the record).
 SECCHI_KERNEL lanes::Reals atan_unit(const lanes::Reals& r) {
     using lanes::Reals;
-    const auto reduced = r > 0.41421356237309503;
-    const Reals x = select(reduced, (r - 1.0) / (r + 1.0), r), x2 = x * x;
-    const Reals series =
-        x + x * x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 + x2 * (-1.0 / 11 + x2 * (1.0 / 13 +
-        x2 * (-1.0 / 15 + x2 * (1.0 / 17))))))));
-    return select(reduced, 0.25 * pi + series, series);
+    const Reals t = r * r, t2 = t * t, t4 = t2 * t2;
+    const Reals p01 = 0.99999999716054546489 - 0.33333276291982551432 * t,
+                p23 = 0.19998075281148713556 - 0.14260016082820904772 * t,
+                p45 = 0.10932341501303092842 - 0.08349724968301601747 * t,
+                p67 = 0.057089555930306190041 - 0.030351864785781170614 * t,
+                p89 = 0.010487649254949305575 - 0.0017011700640685972273 * t;
+    return r * ((p01 + t2 * p23) + t4 * ((p45 + t2 * p67) + t4 * p89));
 }
 
 /// encode_phi per lane (the byte as a double). Its guess of the azimuth comes from atan_unit
-/// (within 1e-7 bin) instead of encode_phi's coarse one (0.07 bin): both land in the exact
+/// (within 6e-8 bin) instead of encode_phi's coarse one (0.07 bin): both land in the exact
 /// bin away from its boundaries, and near one (rarely: then for all lanes) the same
 /// cross-product test with the boundary decides, as in encode_phi.
 SECCHI_KERNEL lanes::Reals encode_phi(const lanes::Reals& dx, const lanes::Reals& dy) {
