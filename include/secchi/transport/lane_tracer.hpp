@@ -96,8 +96,7 @@ private:
         Launches launches;
         launches.first = block.begin;
         for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out.ledger);
-        while (std::any_of(std::begin(lanes.alive), std::end(lanes.alive), [](bool a) { return a; }))
-            step(lanes, launches, block.end, out);
+        while (any_of(Mask(lanes.alive, aligned))) step(lanes, launches, block.end, out);
         for (int l = 0; l < width; ++l) out.ledger.absorbed += lanes.absorbed[l];
         for (std::size_t i = 0; i < lanes.tally.size(); ++i)
             for (int k = 0; k < 4; ++k)
@@ -180,7 +179,9 @@ private:
         const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
         const Reals z_free = z + dz * s;
         const Mask to_surface = z_free < 0.0, to_floor = z_free >= floor_depth;
-        const Reals t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
+        Reals t = s;  // (the divisions only in the steps where a photon meets a boundary)
+        if (any_of(to_surface || to_floor))
+            t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
         fly(L, alive, t, out);
         const Mask at_boundary = alive && (to_surface || to_floor);
         const Mask inside = alive && !at_boundary;
