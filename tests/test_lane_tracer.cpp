@@ -195,7 +195,8 @@ TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte for byte,
         std::size_t n = 0;
         for (int l = 0; l < lane_width; ++l) {
             if (!((keep >> l) & 1u)) continue;
-            const CompactRecord ref = CompactRecord::make({p.x[l], p.y[l], p.z[l]}, dirs[i + l], band_index{3}, batch[l]);
+            const CompactRecord ref =
+                CompactRecord::make({p.x[l], p.y[l], p.z[l]}, dirs[i + l], band_index{3}, batch[l]);
             differing += n >= kept || std::memcmp(&ref, &made[n], sizeof ref) != 0;
             ++n;
         }
