@@ -216,11 +216,35 @@ TEST_CASE("Record chunks keep every record, in order") {
     }
     CHECK(chunks.size() == 5000);
     detail::RecordChunks<FullRecord> moved(std::move(chunks));
+    CHECK(chunks.size() == 0);  // NOLINT(bugprone-use-after-move): the source is left empty
+    // Room for a group of records, of which the first two are kept: they follow in order.
+    FullRecord* room = moved.room(4);
+    for (int k = 0; k < 4; ++k) {
+        room[k] = FullRecord::make({5000.0 + k, 0.0, 1.0}, {0.0, 0.0, 1.0}, 0, 0);
+        if (k < 2) expected.push_back(room[k]);
+    }
+    moved.commit(2);
+    CHECK(moved.size() == 5002);
     std::vector<FullRecord> out{expected[7]};
     moved.move_to(out);
-    REQUIRE(out.size() == 5001);
-    for (int i = 0; i < 5000; ++i) REQUIRE(out[i + 1].position() == expected[i].position());
+    REQUIRE(out.size() == 5003);
+    for (int i = 0; i < 5002; ++i) REQUIRE(out[i + 1].position() == expected[i].position());
     CHECK(moved.size() == 0);
+}
+
+TEST_CASE("Room for a group at a chunk's end starts the next chunk, keeping the records before it") {
+    const std::size_t per_chunk = detail::ChunkPool<FullRecord>::per_chunk;
+    detail::RecordChunks<FullRecord> chunks;
+    auto record = [](std::size_t i) { return FullRecord::make({double(i), 0.0, 0.0}, {0.0, 0.0, 1.0}, 0, 0); };
+    for (std::size_t i = 0; i + 2 < per_chunk; ++i) chunks.push_back(record(i));
+    FullRecord* room = chunks.room(4);  // two slots left: a new chunk
+    for (std::size_t k = 0; k < 4; ++k) room[k] = record(per_chunk - 2 + k);
+    chunks.commit(3);
+    REQUIRE(chunks.size() == per_chunk + 1);
+    std::vector<FullRecord> out;
+    chunks.move_to(out);
+    REQUIRE(out.size() == per_chunk + 1);
+    for (std::size_t i = 0; i < out.size(); ++i) REQUIRE(out[i].position().x == double(i));
 }
 
 TEST_CASE("The map is built in block order whatever order the blocks finish in, in reused chunks") {

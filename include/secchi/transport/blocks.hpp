@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 namespace secchi::detail {
@@ -70,12 +71,27 @@ private:
 
 /// A block's records in chunks of fixed capacity: appending never moves stored records, as
 /// one growing vector would (copying each about once more, into fresh pages). Chunks come
-/// from the pool if there is one, else from the heap.
+/// from the pool if there is one, else from the heap. The last chunk is written through a
+/// cursor; the chunks before it are full up to their counts in used_.
 template <class Record>
 class RecordChunks {
 public:
     RecordChunks() = default;
     explicit RecordChunks(ChunkPool<Record>* pool) : pool_(pool) {}
+    // Moved, the chunks keep their memory, so the cursor stays valid; the source is left empty.
+    RecordChunks(RecordChunks&& o) noexcept
+        : pool_(o.pool_), chunks_(std::move(o.chunks_)), used_(std::move(o.used_)),
+          cursor_(std::exchange(o.cursor_, nullptr)), end_(std::exchange(o.end_, nullptr)) {}
+    RecordChunks& operator=(RecordChunks&& o) noexcept {
+        pool_ = o.pool_;
+        chunks_ = std::move(o.chunks_);
+        used_ = std::move(o.used_);
+        cursor_ = std::exchange(o.cursor_, nullptr);
+        end_ = std::exchange(o.end_, nullptr);
+        return *this;
+    }
+    RecordChunks(const RecordChunks&) = delete;
+    RecordChunks& operator=(const RecordChunks&) = delete;
 
     void push_back(const Record& r) {
         *room(1) = r;
@@ -84,22 +100,20 @@ public:
     /// Room for n <= per_chunk records after the last: write them there, then commit() those
     /// kept (photons in lanes write every lane's record and keep some; transport/lane_tracer.hpp).
     [[nodiscard]] Record* room(std::size_t n) {
-        if (chunks_.empty() || used_.back() + n > ChunkPool<Record>::per_chunk) [[unlikely]] {
-            chunks_.push_back(pool_ ? pool_->take() : ChunkPool<Record>::fresh());
-            used_.push_back(0);
-        }
-        return chunks_.back().data() + used_.back();
+        if (static_cast<std::size_t>(end_ - cursor_) < n) [[unlikely]] next_chunk();
+        return cursor_;
     }
     /// Keeps the first n records written at room().
-    void commit(std::size_t n) { used_.back() += n; }
+    void commit(std::size_t n) { cursor_ += n; }
 
     [[nodiscard]] std::size_t size() const {
-        std::size_t n = 0;
+        std::size_t n = chunks_.empty() ? 0 : last_used();
         for (std::size_t used : used_) n += used;
         return n;
     }
     /// Appends the records to `out` in order and gives the chunks back (to the pool, or frees them).
     void move_to(std::vector<Record>& out) {
+        if (!chunks_.empty()) used_.push_back(last_used());
         for (std::size_t i = 0; i < chunks_.size(); ++i) {
             const auto first = chunks_[i].begin();
             out.insert(out.end(), first, first + static_cast<std::ptrdiff_t>(used_[i]));
@@ -107,12 +121,23 @@ public:
         }
         std::vector<std::vector<Record>>().swap(chunks_);
         std::vector<std::size_t>().swap(used_);
+        cursor_ = end_ = nullptr;
     }
 
 private:
+    [[nodiscard]] std::size_t last_used() const { return static_cast<std::size_t>(cursor_ - chunks_.back().data()); }
+    void next_chunk() {
+        if (!chunks_.empty()) used_.push_back(last_used());
+        chunks_.push_back(pool_ ? pool_->take() : ChunkPool<Record>::fresh());
+        cursor_ = chunks_.back().data();
+        end_ = cursor_ + chunks_.back().size();
+    }
+
     ChunkPool<Record>* pool_ = nullptr;
     std::vector<std::vector<Record>> chunks_;
-    std::vector<std::size_t> used_;  ///< records kept in each chunk
+    std::vector<std::size_t> used_;  ///< records kept in each chunk before the last
+    Record* cursor_ = nullptr;       ///< the last chunk's next free slot
+    Record* end_ = nullptr;          ///< and its end
 };
 
 /// The photon map, built in block order while blocks finish in any order: `finished(i)`

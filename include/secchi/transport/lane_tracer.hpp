@@ -168,6 +168,9 @@ private:
     }
 
     /// Every lane's photon to its next event: PhotonTracer::follow's loop body, per lane.
+    /// Inlined into trace_block's loop with its helpers (fly, store_events, the records, the
+    /// detectors): calls that passed vectors through memory were 13 % of LaneTracer's
+    /// instructions (valgrind; BENCHMARKS.md, tenth session).
     SECCHI_KERNEL void step(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
         StepUniforms u;
         draw(L, u);
