@@ -135,31 +135,34 @@ TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in l
     }
 }
 
+namespace {
+/// The largest |f(x) - reference(x)| of a function in lanes over x = i / 2^20 in [0, 1].
+template <class F, class Reference>
+double worst_on_unit_interval(F f, Reference reference) {
+    double worst = 0;
+    for (int i = 0; i <= 1 << 20; i += lane_width) {
+        const Reals x = lanes_of([&](int l) { return std::min(1.0, (i + l) / double(1 << 20)); });
+        const Reals y = f(x);
+        for (int l = 0; l < lane_width; ++l) worst = std::max(worst, std::abs(y[l] - reference(x[l])));
+    }
+    return worst;
+}
+}  // namespace
+
 // encode_theta in lanes trusts its guess 1e-4 bin (1.2e-6 rad) from a boundary: require a
 // tenth of that. (A&S give 2e-8 rad for 4.4.46; with its 10-digit coefficients this grid
 // measured 2.2e-8.)
 TEST_CASE("acos_unit is within 1.2e-7 rad of acos (Abramowitz and Stegun 4.4.46)") {
-    double worst = 0;
-    for (int i = 0; i <= 1 << 20; i += lane_width) {
-        const Reals x = lanes_of([&](int l) { return std::min(1.0, (i + l) / double(1 << 20)); });
-        const Reals a = detail::acos_unit(x);
-        for (int l = 0; l < lane_width; ++l) worst = std::max(worst, std::abs(a[l] - std::acos(x[l])));
-    }
-    CHECK(worst < 1.2e-7);
+    CHECK(worst_on_unit_interval([](const Reals& x) { return detail::acos_unit(x); },
+                                 [](double x) { return std::acos(x); }) < 1.2e-7);
 }
 
 // encode_phi in lanes trusts its guess 1e-6 bin (2.45e-8 rad) from a boundary: require a
 // tenth of that of atan_unit (its fit's error is 2.8e-9 in atan(sqrt t)/sqrt t, at most that
-// in atan r).
+// in atan r; this grid measured 1.5e-9).
 TEST_CASE("atan_unit is within 2.4e-9 rad of atan on [0, 1]") {
-    double worst = 0;
-    for (int i = 0; i <= 1 << 20; i += lane_width) {
-        const Reals r = lanes_of([&](int l) { return std::min(1.0, (i + l) / double(1 << 20)); });
-        const Reals a = detail::atan_unit(r);
-        for (int l = 0; l < lane_width; ++l) worst = std::max(worst, std::abs(a[l] - std::atan(r[l])));
-    }
-    INFO("atan_unit: worst " << worst << " rad");
-    CHECK(worst < 2.4e-9);
+    CHECK(worst_on_unit_interval([](const Reals& r) { return detail::atan_unit(r); },
+                                 [](double r) { return std::atan(r); }) < 2.4e-9);
 }
 
 TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte for byte, the kept lanes in order") {
