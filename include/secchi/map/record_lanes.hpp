@@ -112,8 +112,8 @@ struct LaneRecords<CompactRecord> {
     /// As the general make_kept. The last four bytes of a record (theta, phi, band, batch) are
     /// one 32-bit word made in the vectors; with AVX2 the four words of four lanes (x, y, z as
     /// floats, and that word) are transposed into four records in registers (rounding to float
-    /// as static_cast does), instead of lane by lane (64 instructions per four records, 16 with
-    /// the transposition: valgrind).
+    /// as static_cast does), instead of being put together lane by lane (about 65 instructions
+    /// per four records: valgrind).
     SECCHI_KERNEL static std::size_t make_kept(const lanes::Vec3& p, const lanes::Vec3& d, band_index band,
                                                const std::uint8_t* batch, unsigned keep, CompactRecord* out) {
         constexpr int width = lanes::lane_width;

@@ -6,6 +6,8 @@
 // block's chunks go back to a pool for the next blocks as soon as its records are copied:
 // the records are written into warm memory, and the map is built while tracing instead of
 // after it (peak memory about one map, not two).
+#include "secchi/core/math.hpp"
+#include "secchi/core/spectral.hpp"
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -40,8 +42,11 @@ class ChunkPool {
 public:
     static constexpr std::size_t per_chunk = std::max<std::size_t>(1, 65536 / sizeof(Record));
 
-    /// A new chunk of per_chunk slots.
-    static std::vector<Record> fresh() { return std::vector<Record>(per_chunk); }
+    /// A new chunk of per_chunk slots, filled with a record made by the record's own make()
+    /// (a PhotonRecord need not be default-constructible).
+    static std::vector<Record> fresh() {
+        return std::vector<Record>(per_chunk, Record::make(vec3(0.0), vec3(0.0, 0.0, 1.0), band_index{0}, 0));
+    }
     /// A chunk of per_chunk slots: one given back, else a fresh one.
     std::vector<Record> take() {
         {
