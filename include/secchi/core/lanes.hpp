@@ -50,8 +50,8 @@ using Ints = stdx::rebind_simd_t<std::int64_t, Reals>;
 inline constexpr auto aligned = stdx::vector_aligned;
 
 /// A lane's bits of a mask, as an integer (bit l set if lane l is). libstdc++'s
-/// __to_bitset() is one movemask instruction on x86; reading the lanes one by one took 16
-/// instructions per call (valgrind), about 4 % of LaneTracer's.
+/// __to_bitset() is one movemask instruction on x86; reading the lanes one by one took about
+/// 16 instructions per scattering event in LaneTracer, 4 % of its instructions (valgrind).
 SECCHI_KERNEL unsigned bits_of(const Mask& m) { return static_cast<unsigned>(m.__to_bitset().to_ulong()); }
 
 /// Calls f(l) for every lane l set in m, in lane order.
