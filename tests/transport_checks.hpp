@@ -48,4 +48,33 @@ void require_same_for_1_and_2_threads(AbsorptionMode mode, Trace&& trace) {
     require_identical(a, b);
 }
 
+/// The plane detector at the surface (depth 0) counts every crossing of the surface once: a
+/// photon reaching it from below in Eu(0), one leaving it downward (entering from the sun,
+/// or reflected back) in Ed(0). Then Ed(0) - Eu(0), the net downward flux just below the
+/// surface, is exactly the flux that entered less the flux that escaped upward, per photon
+/// history: Ed(0+) (incident - surface_reflected - escaped_up) (the ledger counts per photon,
+/// the irradiances in the sun's units: Ed(0+) = E_perp cos(zenith) just above). So the check
+/// is to the rounding of the sums, for every absorption mode, with and without a refracting
+/// surface (n = 1: every photon that reaches the surface escapes). trace(settings, surface,
+/// sun) runs the tracer under test on water with a reflecting bottom.
+template <class Trace>
+void check_surface_plane_counts_every_crossing(Trace&& trace) {
+    for (const AbsorptionMode mode :
+         {AbsorptionMode::analog, AbsorptionMode::implicit_capture, AbsorptionMode::continuous})
+        for (const double n : {1.34, 1.0}) {
+            TransportSettings s;
+            s.photons = s.map_photons = 20000;
+            s.depths = {0.0, 1.0};
+            s.absorption = mode;
+            const CollimatedSun sun(40.0);
+            const auto r = trace(s, FlatSurface(n), sun);
+            const double net = r.irradiance[0][Ed].value - r.irradiance[0][Eu].value;
+            const auto& ledger = r.ledger;
+            INFO("absorption mode " << static_cast<int>(mode) << ", n = " << n << ": Ed(0) " << r.irradiance[0][Ed].value
+                                    << ", Eu(0) " << r.irradiance[0][Eu].value << ", escaped " << ledger.escaped_up);
+            CHECK(ledger.escaped_up > 0.05);
+            CHECK(net == Approx(sun.plane_irradiance() * (ledger.incident - ledger.surface_reflected - ledger.escaped_up)).epsilon(1e-12));
+        }
+}
+
 }  // namespace secchi::testing

@@ -182,10 +182,12 @@ private:
         const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
         const Reals z_free = z + dz * s;
         const Mask to_surface = z_free < 0.0, to_floor = z_free >= floor_depth;
-        Reals t = s;  // (the divisions only in the steps where a photon meets a boundary)
-        if (any_of(to_surface || to_floor))
+        Reals t = s, z1 = z_free;  // (the divisions only in the steps where a photon meets a boundary)
+        if (any_of(to_surface || to_floor)) {
             t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
-        fly(L, alive, t, out);
+            z1 = select(to_surface, Reals(0.0), z + dz * t);  // on the surface exactly (PhotonTracer::follow)
+        }
+        fly(L, alive, t, z1, out);
         const Mask at_boundary = alive && (to_surface || to_floor);
         const Mask inside = alive && !at_boundary;
         const lanes::Vec3 before{Reals(L.dx, aligned), Reals(L.dy, aligned), dz};
@@ -236,11 +238,11 @@ private:
         });
     }
 
-    /// PhotonTracer::fly per lane: the detectors (in the vectors, or lane by lane when the
-    /// weight decays along the flight), continuous absorption, the move.
-    SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, detail::BlockResult<Record>& out) const {
+    /// PhotonTracer::fly per lane (path length t to depth z1): the detectors (in the vectors,
+    /// or lane by lane when the weight decays along the flight), continuous absorption, the move.
+    SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, const Reals& z1,
+                           detail::BlockResult<Record>& out) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned);
-        const Reals z1 = z + dz * t;
         if (!this->continuous_) {
             this->layers_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
         } else {

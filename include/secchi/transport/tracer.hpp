@@ -158,19 +158,21 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
             const double z1 = p.pos.z + p.dir.z * s;
             if (z1 < 0.0) {                               // reaches the surface from below
-                const double t = -p.pos.z / p.dir.z;
-                fly(p, t, out);
+                // The flight ends on the surface, z = 0 exactly (z + uz t would round to
+                // either side of it), so that a detector at depth 0 counts it (the half-open
+                // crossing rule of IrradianceLayers::record).
+                fly(p, -p.pos.z / p.dir.z, 0.0, out);
                 if (!leave_or_reflect_at_surface(p, rng, out.ledger)) return;
                 continue;
             }
             if (z1 >= floor_depth) {                      // reaches the bottom / escape depth
                 const double t = (floor_depth - p.pos.z) / p.dir.z;
-                fly(p, t, out);
+                fly(p, t, p.pos.z + p.dir.z * t, out);
                 if (has_bottom) out.bottom_ed += p.w;
                 if (!reflect_at_bottom(p, rng, out.ledger)) return;
                 continue;
             }
-            fly(p, s, out);
+            fly(p, s, z1, out);
             if (!interact(p, rng, out, slot)) return;
         }
     }
@@ -249,10 +251,10 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         return roulette(p, rng, ledger);
     }
 
-    /// Moves the photon by path length s, tallying the detectors it passes (and, with
-    /// continuous absorption, attenuating its weight by exp(-int a ds)).
-    void fly(PhotonState& p, double s, detail::BlockResult<Record>& out) const {
-        const double z1 = p.pos.z + p.dir.z * s;
+    /// Moves the photon by path length s to depth z1 (its z + uz s, or 0 exactly on a flight
+    /// to the surface), tallying the detectors it passes (and, with continuous absorption,
+    /// attenuating its weight by exp(-int a ds)).
+    void fly(PhotonState& p, double s, double z1, detail::BlockResult<Record>& out) const {
         const Flight flight{p.pos.z, z1, p.dir.z, s, p.w};
         if (continuous_) layers_.record(flight, medium_, out.tally.data());
         else layers_.record(flight, NoAbsorption{}, out.tally.data());
