@@ -317,12 +317,7 @@ TEST_CASE("LaneTracer and PhotonTracer agree within their standard errors") {
 }
 
 TEST_CASE("LaneTracer's surface detector counts every photon that reaches the surface from below") {
-    testing::check_surface_plane_counts_every_crossing([](const TransportSettings& s, FlatSurface surface, CollimatedSun sun) {
-        const auto medium = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, HenyeyGreensteinPhase(0.5));
-        return LaneTracer<HomogeneousWater<HenyeyGreensteinPhase>, CompactRecord>(
-                   medium, Slab(1.0, Bottom::lambertian_at(3.0, 0.5), 30.0), surface, sun, s)
-            .run();
-    });
+    testing::check_surface_plane_counts_every_crossing<LaneTracer>();
 }
 
 TEST_CASE("LaneTracer is bit-identical for 1 and 2 threads") {

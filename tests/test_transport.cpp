@@ -110,12 +110,7 @@ TEST_CASE("Beer-Lambert with continuous absorption is exact per photon") {
 }
 
 TEST_CASE("The surface's detector counts every photon that reaches the surface from below") {
-    testing::check_surface_plane_counts_every_crossing([](const TransportSettings& s, FlatSurface surface, CollimatedSun sun) {
-        const auto medium = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, HenyeyGreensteinPhase(0.5));
-        return PhotonTracer<HomogeneousWater<HenyeyGreensteinPhase>, CompactRecord>(
-                   medium, Slab(1.0, Bottom::lambertian_at(3.0, 0.5), 30.0), surface, sun, s)
-            .run();
-    });
+    testing::check_surface_plane_counts_every_crossing<PhotonTracer>();
 }
 
 TEST_CASE("Results are bit-identical for 1 and 2 threads") {
