@@ -42,8 +42,14 @@
 namespace secchi::lanes {
 
 namespace stdx = std::experimental;
-using Reals = stdx::native_simd<double>;
+/// The target's native vector of T (double or float).
+template <class T>
+using LanesOf = stdx::native_simd<T>;
+using Reals = LanesOf<double>;
+using Floats = LanesOf<float>;  ///< twice as many lanes as Reals (photons in float lanes)
 inline constexpr int lane_width = static_cast<int>(Reals::size());
+template <class T>
+inline constexpr int width_of = static_cast<int>(LanesOf<T>::size());
 using Mask = typename Reals::mask_type;
 using Words = stdx::rebind_simd_t<std::uint64_t, Reals>;
 using Ints = stdx::rebind_simd_t<std::int64_t, Reals>;
@@ -52,11 +58,14 @@ inline constexpr auto aligned = stdx::vector_aligned;
 /// A lane's bits of a mask, as an integer (bit l set if lane l is). libstdc++'s
 /// __to_bitset() is one movemask instruction on x86; reading the lanes one by one took about
 /// 16 instructions per scattering event in LaneTracer, 4 % of its instructions (valgrind).
-SECCHI_KERNEL unsigned bits_of(const Mask& m) { return static_cast<unsigned>(m.__to_bitset().to_ulong()); }
+template <class T, class Abi>
+SECCHI_KERNEL unsigned bits_of(const stdx::simd_mask<T, Abi>& m) {
+    return static_cast<unsigned>(m.__to_bitset().to_ulong());
+}
 
 /// Calls f(l) for every lane l set in m, in lane order.
-template <class F>
-SECCHI_KERNEL void for_each(const Mask& m, F&& f) {
+template <class T, class Abi, class F>
+SECCHI_KERNEL void for_each(const stdx::simd_mask<T, Abi>& m, F&& f) {
     for (unsigned b = bits_of(m); b != 0; b &= b - 1) f(std::countr_zero(b));
 }
 
@@ -188,25 +197,59 @@ inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* str
 }
 
 /// The same blocks as 32-bit words: bits[k][l] = philox_block(block_l, stream_l, key)[k]
-/// (arrays of lane_width words), for PhotonRng's first block of photons launched in lanes.
+/// (arrays of Width words, Width a multiple of lane_width), for PhotonRng's first block of
+/// photons launched in lanes.
+template <int Width = lane_width>
 inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                          std::uint32_t* const (&bits)[4]) {
+    static_assert(Width % lane_width == 0);
 #if defined(__AVX512DQ__)
     using Words32 = stdx::rebind_simd_t<std::uint32_t, Reals>;
-    const auto [x] = philox_rounds(block, stream, key);
-    for (int k = 0; k < 4; ++k) stdx::static_simd_cast<Words32>(x[k]).copy_to(bits[k], stdx::element_aligned);
+    for (int g = 0; g < Width; g += lane_width) {
+        const auto [x] = philox_rounds(block + g, stream + g, key);
+        for (int k = 0; k < 4; ++k) stdx::static_simd_cast<Words32>(x[k]).copy_to(bits[k] + g, stdx::element_aligned);
+    }
 #elif defined(__AVX2__)
     const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    for (int g = 0; g < lane_width; g += 4) {
+    for (int g = 0; g < Width; g += 4) {
         const auto [x] = philox_rounds4(block + g, stream + g, key);
         for (int k = 0; k < 4; ++k)
             _mm_storeu_si128(reinterpret_cast<__m128i*>(bits[k] + g),
                              _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(x[k], low_halves)));
     }
 #else
-    for (int l = 0; l < lane_width; ++l) {
+    for (int l = 0; l < Width; ++l) {
         const auto r = philox_block(block[l], stream[l], key.words);
         for (int k = 0; k < 4; ++k) bits[k][l] = r[k];
+    }
+#endif
+}
+
+/// philox_uniforms for float lanes (width_of<float> of them): u[k] in lane l is
+/// uniform_float_from_bits(philox_block(block_l, stream_l, key)[k]) exactly
+/// (tests/test_lane_tracer.cpp). With AVX2, the rounds of two groups of four lanes (as for
+/// doubles), their words packed into one vector of eight and made floats there.
+inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
+                            float* const (&u)[4]) {
+    constexpr int width = width_of<float>;
+#if defined(__AVX2__) && !defined(__AVX512DQ__)
+    static_assert(width % 8 == 0);
+    const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    for (int g = 0; g < width; g += 8) {
+        const auto [a] = philox_rounds4(block + g, stream + g, key);
+        const auto [b] = philox_rounds4(block + g + 4, stream + g + 4, key);
+        for (int w = 0; w < 4; ++w) {
+            // Lanes g..g+3 from a's low halves, g+4..g+7 from b's; (w >> 8) + 1/2, times 2^-24.
+            const __m256i words = _mm256_permute2x128_si256(_mm256_permutevar8x32_epi32(a[w], low_halves),
+                                                            _mm256_permutevar8x32_epi32(b[w], low_halves), 0x20);
+            const __m256 top = _mm256_cvtepi32_ps(_mm256_srli_epi32(words, 8));
+            _mm256_store_ps(u[w] + g, _mm256_mul_ps(_mm256_add_ps(top, _mm256_set1_ps(0.5f)), _mm256_set1_ps(0x1p-24f)));
+        }
+    }
+#else
+    for (int l = 0; l < width; ++l) {
+        const auto r = philox_block(block[l], stream[l], key.words);
+        for (int k = 0; k < 4; ++k) u[k][l] = uniform_float_from_bits(r[k]);
     }
 #endif
 }
@@ -230,6 +273,23 @@ SECCHI_KERNEL Reals log(Reals x) {
     return ed * ln2_hi + (2.0 * f + (f * f2 * series + ed * ln2_lo));
 }
 
+/// ln x for float lanes, normal x > 0: the same reduction as for doubles, with the series to
+/// f^9/9 (truncation below 2 f^11/11 < 8e-10, under float's precision).
+SECCHI_KERNEL Floats log(Floats x) {
+    using Words32 = stdx::rebind_simd_t<std::uint32_t, Floats>;
+    using Ints32 = stdx::rebind_simd_t<std::int32_t, Floats>;
+    const Words32 bits = stdx::__proposed::simd_bit_cast<Words32>(x);
+    constexpr std::uint32_t sqrt_half = 0x3f3504f3u, one = 0x3f800000u;  // float(sqrt(1/2)), 1
+    const Words32 shifted = bits + Words32(one - sqrt_half);
+    const Ints32 e = stdx::static_simd_cast<Ints32>(shifted >> 23) - Ints32(127);
+    const Floats m = stdx::__proposed::simd_bit_cast<Floats>((shifted & Words32(0x007fffffu)) + Words32(sqrt_half));
+    const Floats f = (m - 1.0f) / (m + 1.0f), f2 = f * f;
+    const Floats series = 2.0f / 3 + f2 * (2.0f / 5 + f2 * (2.0f / 7 + f2 * (2.0f / 9)));
+    const Floats ef = stdx::static_simd_cast<Floats>(e);
+    constexpr float ln2_hi = 0.693145751953125f, ln2_lo = 1.428606765330187e-06f;  // ln2_hi: 16 bits
+    return ef * ln2_hi + (2.0f * f + (f * f2 * series + ef * ln2_lo));
+}
+
 /// exp_table (core/math.hpp) per lane, by the same operations: equal to it lane by lane for
 /// x in (-708, 709) (tests/test_lane_tracer.cpp); lanes outside that range are the caller's
 /// (exp_table's special values). For the transmittances exp(-c t) of many collected photons
@@ -246,6 +306,7 @@ SECCHI_KERNEL Reals exp(const Reals& x) {
 
 /// Positions and directions per lane.
 using Vec3 = Vec3Of<Reals>;
+using Vec3F = Vec3Of<Floats>;
 
 }  // namespace secchi::lanes
 

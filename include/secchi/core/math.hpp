@@ -38,13 +38,29 @@ SECCHI_KERNEL T select(const Mask& m, const T& a, T b) {
     }
 }
 
+/// The scalar type of a double or float, or of a SIMD vector of them (its value_type): code
+/// written once for both writes its constants as scalar_t<Real>(c), since a vector of floats
+/// takes no double (std::experimental::simd broadcasts only value-preserving conversions).
+template <class Real>
+struct scalar_of {
+    using type = Real;
+};
+template <class Real>
+    requires requires { typename Real::value_type; }
+struct scalar_of<Real> {
+    using type = typename Real::value_type;
+};
+template <class Real>
+using scalar_t = typename scalar_of<Real>::type;
+
 namespace detail {
-/// x rounded to the nearest integer (ties to even), for |x| < 2^51: adding 1.5 2^52 leaves no
-/// fraction bits, and subtracting it again is exact. (std::nearbyint honours the rounding mode
-/// through a library call; this is two additions.)
+/// x rounded to the nearest integer (ties to even), for |x| < 2^51 (doubles; 2^22 for floats):
+/// adding 1.5 2^52 (1.5 2^23) leaves no fraction bits, and subtracting it again is exact.
+/// (std::nearbyint honours the rounding mode through a library call; this is two additions.)
 template <class Real>
 Real round_to_integer(Real x) {
-    constexpr double shift = 0x1.8p52;
+    using T = scalar_t<Real>;
+    constexpr T shift = std::is_same_v<T, float> ? T(0x1.8p23) : T(0x1.8p52);
     return (x + shift) - shift;
 }
 }  // namespace detail
@@ -65,23 +81,39 @@ using SinCos = SinCosOf<double>;
 
 template <class Real>
 SECCHI_KERNEL SinCosOf<Real> sin_cos(Real x) {
-    using std::floor;
-    constexpr double two_over_pi = 0.6366197723675814;
-    constexpr double pio2_1 = 1.5707963267341256, pio2_2 = 6.077100506303966e-11, pio2_3 = 2.0222662487959506e-21;
-    const Real k = detail::round_to_integer(x * two_over_pi);
-    const Real r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
-    const Real r2 = r * r;
-    // 1/n! for n = 2 .. 18
-    constexpr double f3 = 0.16666666666666666, f5 = 0.008333333333333333, f7 = 0.0001984126984126984,
-                     f9 = 2.7557319223985893e-06, f11 = 2.505210838544172e-08, f13 = 1.6059043836821613e-10,
-                     f15 = 7.647163731819816e-13, f17 = 2.8114572543455206e-15;
-    constexpr double f4 = 0.041666666666666664, f6 = 0.001388888888888889, f8 = 2.48015873015873e-05,
-                     f10 = 2.755731922398589e-07, f12 = 2.08767569878681e-09, f14 = 1.1470745597729725e-11,
-                     f16 = 4.779477332387385e-14, f18 = 1.5619206968586225e-16;
-    const Real ps = -f3 + r2 * (f5 + r2 * (-f7 + r2 * (f9 + r2 * (-f11 + r2 * (f13 + r2 * (-f15 + r2 * f17))))));
-    const Real pc = f4 + r2 * (-f6 + r2 * (f8 + r2 * (-f10 + r2 * (f12 + r2 * (-f14 + r2 * (f16 - r2 * f18))))));
-    const Real s = r + r * r2 * ps;
-    const Real c = (1.0 - 0.5 * r2) + r2 * r2 * pc;
+    using T = scalar_t<Real>;
+    Real k, s, c;
+    if constexpr (std::is_same_v<T, float>) {
+        // Floats (photons in float lanes, x in [0, 2 pi]): pi/2 in three parts, the first two
+        // with 8 and 11 significant bits (k times them exact for |k| < 2^13; Cody and Waite's
+        // split, as in Cephes' sinf), then Taylor series to r^9 and r^10 on |r| <= pi/4
+        // (truncation below (pi/4)^11 / 11! = 2e-9, under float's half ulp).
+        constexpr float pio2_1 = 1.5703125f, pio2_2 = 4.837512969970703125e-4f, pio2_3 = 7.549789948768648e-8f;
+        k = detail::round_to_integer(x * T(0.6366197723675814));
+        const Real r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
+        const Real r2 = r * r;
+        const Real ps = T(-1.0 / 6) + r2 * (T(1.0 / 120) + r2 * (T(-1.0 / 5040) + r2 * T(1.0 / 362880)));
+        const Real pc = T(1.0 / 24) + r2 * (T(-1.0 / 720) + r2 * (T(1.0 / 40320) + r2 * T(-1.0 / 3628800)));
+        s = r + r * r2 * ps;
+        c = (T(1) - T(0.5) * r2) + r2 * r2 * pc;
+    } else {
+        constexpr double two_over_pi = 0.6366197723675814;
+        constexpr double pio2_1 = 1.5707963267341256, pio2_2 = 6.077100506303966e-11, pio2_3 = 2.0222662487959506e-21;
+        k = detail::round_to_integer(x * two_over_pi);
+        const Real r = ((x - k * pio2_1) - k * pio2_2) - k * pio2_3;
+        const Real r2 = r * r;
+        // 1/n! for n = 2 .. 18
+        constexpr double f3 = 0.16666666666666666, f5 = 0.008333333333333333, f7 = 0.0001984126984126984,
+                         f9 = 2.7557319223985893e-06, f11 = 2.505210838544172e-08, f13 = 1.6059043836821613e-10,
+                         f15 = 7.647163731819816e-13, f17 = 2.8114572543455206e-15;
+        constexpr double f4 = 0.041666666666666664, f6 = 0.001388888888888889, f8 = 2.48015873015873e-05,
+                         f10 = 2.755731922398589e-07, f12 = 2.08767569878681e-09, f14 = 1.1470745597729725e-11,
+                         f16 = 4.779477332387385e-14, f18 = 1.5619206968586225e-16;
+        const Real ps = -f3 + r2 * (f5 + r2 * (-f7 + r2 * (f9 + r2 * (-f11 + r2 * (f13 + r2 * (-f15 + r2 * f17))))));
+        const Real pc = f4 + r2 * (-f6 + r2 * (f8 + r2 * (-f10 + r2 * (f12 + r2 * (-f14 + r2 * (f16 - r2 * f18))))));
+        s = r + r * r2 * ps;
+        c = (1.0 - 0.5 * r2) + r2 * r2 * pc;
+    }
     // x = k pi/2 + r: quadrant q = k mod 4 turns (s, c) into (s, c), (c, -s), (-s, -c), (-c, s);
     // a switch for one double (the selects made PhotonTracer 1.14 times slower), selects for lanes.
     if constexpr (std::is_floating_point_v<Real>) {
@@ -92,10 +124,11 @@ SECCHI_KERNEL SinCosOf<Real> sin_cos(Real x) {
         default: return {-c, s};
         }
     } else {
-        const Real q = k - 4.0 * floor(k * 0.25);
-        const auto odd = (q == 1.0) || (q == 3.0);
+        using std::floor;
+        const Real q = k - T(4) * floor(k * T(0.25));
+        const auto odd = (q == T(1)) || (q == T(3));
         const Real sin_abs = select(odd, c, s), cos_abs = select(odd, s, c);
-        return {select(q >= 2.0, -sin_abs, sin_abs), select((q == 1.0) || (q == 2.0), -cos_abs, cos_abs)};
+        return {select(q >= T(2), -sin_abs, sin_abs), select((q == T(1)) || (q == T(2)), -cos_abs, cos_abs)};
     }
 }
 
@@ -166,17 +199,18 @@ struct Vec3Of {
 template <class Real>
 SECCHI_KERNEL Vec3Of<Real> rotate_direction(const Vec3Of<Real>& d, Real cos_psi, Real phi) {
     using std::copysign, std::max, std::sqrt;
-    const Real sin_psi = sqrt(max(Real(0.0), 1.0 - cos_psi * cos_psi));
-    const Real sign = copysign(Real(1.0), d.z);
-    const Real a = -1.0 / (sign + d.z);
+    using T = scalar_t<Real>;
+    const Real sin_psi = sqrt(max(Real(T(0)), T(1) - cos_psi * cos_psi));
+    const Real sign = copysign(Real(T(1)), d.z);
+    const Real a = T(-1) / (sign + d.z);
     const Real b = d.x * d.y * a;
     const SinCosOf<Real> az = sin_cos(phi);
     const Real u = sin_psi * az.cos, v = sin_psi * az.sin;
     // out = u t1 + v t2 + cos_psi d with t1 = (1 + sign dx^2 a, sign b, -sign dx), t2 = (b, sign + dy^2 a, -dy)
-    const Real ox = u * (1.0 + sign * d.x * d.x * a) + v * b + cos_psi * d.x;
+    const Real ox = u * (T(1) + sign * d.x * d.x * a) + v * b + cos_psi * d.x;
     const Real oy = u * (sign * b) + v * (sign + d.y * d.y * a) + cos_psi * d.y;
     const Real oz = u * (-sign * d.x) + v * (-d.y) + cos_psi * d.z;
-    const Real n = 1.5 - 0.5 * (ox * ox + oy * oy + oz * oz);
+    const Real n = T(1.5) - T(0.5) * (ox * ox + oy * oy + oz * oz);
     return {ox * n, oy * n, oz * n};
 }
 

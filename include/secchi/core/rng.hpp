@@ -43,6 +43,12 @@ inline std::array<std::uint32_t, 4> philox_block(std::uint64_t block, std::uint6
 /// A 32-bit random word as a uniform double in the open interval (0, 1).
 inline double uniform_from_bits(std::uint32_t bits) { return (static_cast<double>(bits) + 0.5) * 0x1p-32; }
 
+/// A 32-bit random word as a uniform float in the open interval (0, 1), from its top 24 bits
+/// (a float's precision): (w / 2^8 + 1/2) 2^-24, exact. For photons in float lanes.
+inline float uniform_float_from_bits(std::uint32_t bits) {
+    return (static_cast<float>(bits >> 8) + 0.5f) * 0x1p-24f;
+}
+
 class PhotonRng {
 public:
     /// Stream `stream` (e.g. the photon index) of the generator seeded with `seed`, from its

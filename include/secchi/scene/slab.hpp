@@ -44,12 +44,14 @@ public:
     /// Depth at which a downward photon leaves the water body (bottom or escape depth).
     [[nodiscard]] double floor_depth() const { return bottom_.kind == BottomKind::none ? escape_depth_ : bottom_.depth; }
     /// Periodic wrap of a horizontal coordinate into [0, W).
-    /// For a double, or a SIMD vector of them (photons in lanes).
+    /// For a double, or a SIMD vector of doubles or floats (photons in lanes).
     template <class Real>
     [[nodiscard]] Real wrap(Real x) const {
         using std::floor;
-        const Real w = x - width_ * floor(x / width_);
-        return select(w < width_, w, Real(0.0));
+        using T = scalar_t<Real>;
+        const T width = T(width_);
+        const Real w = x - width * floor(x / width);
+        return select(w < width, w, Real(T(0)));
     }
 
 private:

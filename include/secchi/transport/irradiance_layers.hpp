@@ -44,6 +44,12 @@ public:
             // A plane on the bottom itself counts the flux arriving at and leaving the bottom:
             // it sits a rounding margin above it, so flights ending or starting there cross it.
             planes_.push_back(std::isfinite(floor_depth) ? std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12) : z);
+            // In float lanes the flights to the floor end on float(floor depth) exactly
+            // (transport/lane_tracer.hpp): the plane is the float below it, or below the depth.
+            float plane = static_cast<float>(planes_.back());
+            if (std::isfinite(floor_depth) && plane >= static_cast<float>(floor_depth))
+                plane = std::nextafter(static_cast<float>(floor_depth), 0.0f);
+            float_planes_.push_back(plane);
             const auto [layer_lo, layer_hi] = layers_.back();
             envelopes_.push_back({std::min(layer_lo, planes_.back()), std::max(layer_hi, planes_.back()),
                                   std::abs(layer_lo) + std::abs(layer_hi)});
@@ -83,32 +89,34 @@ public:
         }
     }
 
-    /// record() for one flight per SIMD lane (Real: a std::experimental::simd of doubles;
-    /// photons in lanes, transport/lane_tracer.hpp) without absorption along the flights
+    /// record() for one flight per SIMD lane (Real: a std::experimental::simd of doubles or
+    /// floats; photons in lanes, transport/lane_tracer.hpp) without absorption along the flights
     /// (NoAbsorption), for the lanes in `active`: the same tests and arithmetic lane by lane,
     /// each layer's tallies summed per lane into `tally` (the caller sums the lanes).
-    /// tests/test_lane_tracer.cpp checks it against record().
+    /// tests/test_lane_tracer.cpp checks it against record(). In floats the planes and layers
+    /// are rounded to float, and a plane on the bottom is the float below the floor's.
     template <class Real, class Mask>
     SECCHI_KERNEL void record_lanes(const Real& z0, const Real& z1, const Real& uz, const Real& s, const Real& w,
                                     const Mask& active, std::array<Real, 4>* tally) const {
         using std::abs, std::max, std::min;
+        using T = scalar_t<Real>;
         const Real z_min = min(z0, z1), z_max = max(z0, z1), z_scale = abs(z0) + abs(z1);
         for (std::size_t i = 0; i < depths_.size(); ++i) {
             const Mask reached = active && reaches(envelopes_[i], z_min, z_max, z_scale);
             if (none_of(reached)) continue;
-            const double d = planes_[i];
+            const T d = std::is_same_v<T, float> ? T(float_planes_[i]) : T(planes_[i]);
             // Plane crossings (the weight is w all along the flight without absorption).
-            where(reached && uz > 0.0 && z0 <= d && d < z1, tally[i][Ed]) += w;
-            where(reached && uz < 0.0 && z1 <= d && d < z0, tally[i][Eu]) += w;
+            where(reached && uz > T(0) && z0 <= d && d < z1, tally[i][Ed]) += w;
+            where(reached && uz < T(0) && z1 <= d && d < z0, tally[i][Eu]) += w;
             // Track length in the layer (track_in_layer), times w / D.
-            const auto [lo, hi] = layers_[i];
+            const T lo = T(layers_[i].first), hi = T(layers_[i].second);
             const Real t_lo = (lo - z0) / uz, t_hi = (hi - z0) / uz;
-            const Mask level = uz == 0.0;
-            const Real ta = select(level, Real(0.0), max(min(t_lo, t_hi), Real(0.0)));
-            const Real tb = select(level, select(z0 >= lo && z0 <= hi, s, Real(0.0)), min(max(t_lo, t_hi), s));
-            const Real track = w * (tb - ta) / thickness_;
-            where(reached && tb > ta && uz >= 0.0, tally[i][Eod]) += track;
-            where(reached && tb > ta && !(uz >= 0.0), tally[i][Eou]) += track;
+            const Mask level = uz == T(0);
+            const Real ta = select(level, Real(T(0)), max(min(t_lo, t_hi), Real(T(0))));
+            const Real tb = select(level, select(z0 >= lo && z0 <= hi, s, Real(T(0))), min(max(t_lo, t_hi), s));
+            const Real track = w * (tb - ta) / T(thickness_);
+            where(reached && tb > ta && uz >= T(0), tally[i][Eod]) += track;
+            where(reached && tb > ta && !(uz >= T(0)), tally[i][Eou]) += track;
         }
     }
 
@@ -129,13 +137,15 @@ private:
     };
 
     /// A flight whose depths stay beyond the layer by more than the rounding of z0 + uz s and
-    /// of the divisions in track_in_layer (< 1e-15 of the depths involved) has an empty track
-    /// there, and one that does not reach the plane crosses nothing: skipping it changes no
-    /// result.
+    /// of the divisions in track_in_layer (< 1e-15 of the depths involved in doubles, < 1e-6
+    /// in floats) has an empty track there, and one that does not reach the plane crosses
+    /// nothing: skipping it changes no result.
     template <class Real>
     static auto reaches(const Envelope& e, Real z_min, Real z_max, Real z_scale) {
-        const Real margin = 1e-12 * (z_scale + e.depth_scale);
-        return !(z_max < e.lo - margin || z_min > e.hi + margin);
+        using T = scalar_t<Real>;
+        constexpr T relative = std::is_same_v<T, float> ? T(1e-5) : T(1e-12);
+        const Real margin = relative * (z_scale + T(e.depth_scale));
+        return !(z_max < T(e.lo) - margin || z_min > T(e.hi) + margin);
     }
 
     /// The part [ta, tb] of the flight's path [0, s] inside the layer [lo, hi] (ta >= tb: none).
@@ -152,6 +162,7 @@ private:
     }
 
     std::vector<double> depths_, planes_;
+    std::vector<float> float_planes_;  ///< the planes for float lanes (record_lanes)
     double thickness_;
     std::vector<std::pair<double, double>> layers_;
     std::vector<Envelope> envelopes_;

@@ -28,28 +28,39 @@ namespace secchi {
 
 /// A phase function that samples cos psi for a vector of uniforms at once, with phi = 2 pi u2
 /// (as its scalar sample_direction does).
-template <class P>
-concept LanePhaseSampler = requires(const P p, lanes::Reals u) {
-    { p.cos_psi(u) } -> std::same_as<lanes::Reals>;
+template <class P, class Lanes = lanes::Reals>
+concept LanePhaseSampler = requires(const P p, Lanes u) {
+    { p.cos_psi(u) } -> std::same_as<Lanes>;
 };
 
-template <Medium M, PhotonRecord Record>
-    requires depth_independent<M> && std::default_initializable<Record>
+/// Real: the lanes' precision. double by default; float doubles the lanes per vector (8 with
+/// AVX2) for about 1.5 times the speed (BENCHMARKS.md, twelfth session), with positions,
+/// directions and weights rounded to float between events (a relative 6e-8; the map's records
+/// hold floats anyway), and detector tallies summed in float over at most flush_steps steps
+/// per lane before they join the block's double sums.
+template <Medium M, PhotonRecord Record, class Real = double>
+    requires depth_independent<M> && std::default_initializable<Record> &&
+             (std::same_as<Real, double> || std::same_as<Real, float>)
 class LaneTracer : private PhotonTracer<M, Record> {
     using Base = PhotonTracer<M, Record>;
     using typename Base::PhotonState;
-    using Reals = lanes::Reals;
-    using Mask = lanes::Mask;
-    static constexpr int width = lanes::lane_width;
+    using Reals = lanes::LanesOf<Real>;
+    using Mask = typename Reals::mask_type;
+    using Vec3 = Vec3Of<Reals>;
+    static constexpr int width = lanes::width_of<Real>;
     static constexpr auto aligned = lanes::aligned;
+    static constexpr bool in_floats = std::same_as<Real, float>;
+    /// Float lanes add their tallies and absorbed weight into doubles every flush_steps steps
+    /// (so each float sum has at most that many terms: relative rounding below 64 x 6e-8).
+    static constexpr std::uint64_t flush_steps = 64;
 
 public:
     LaneTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
                TransportSettings settings)
         : Base(medium, slab, surface, sun, supported(std::move(settings))),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
-          path_coefficient_(
-              medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0)) {}
+          path_coefficient_(static_cast<Real>(
+              medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0))) {}
 
     /// As PhotonTracer::run: `storage` (cleared first) receives the map's records.
     TransportResult<Record> run(std::vector<Record> storage = {}) const {
@@ -67,9 +78,9 @@ private:
 
     /// The photons in the lanes, one per lane, as structure of arrays.
     struct Lanes {
-        alignas(64) double x[width], y[width], z[width], dx[width], dy[width], dz[width], w[width];
-        alignas(64) double order[width];     ///< scattering order (exact as a double)
-        alignas(64) double absorbed[width];  ///< weight absorbed in the water, per lane (summed at the end)
+        alignas(64) Real x[width], y[width], z[width], dx[width], dy[width], dz[width], w[width];
+        alignas(64) Real order[width];     ///< scattering order (exact below 2^24 in a float)
+        alignas(64) Real absorbed[width];  ///< weight absorbed in the water, per lane (summed at the end)
         alignas(64) bool alive[width];
         alignas(64) bool stores[width];      ///< whether the photon's events go into the map
         std::uint8_t batch[width];           ///< and in which batch
@@ -87,20 +98,32 @@ private:
 
     /// The four uniforms of one step, per lane.
     struct StepUniforms {
-        alignas(64) double path[width], absorb_or_store[width], psi[width], phi[width];
+        alignas(64) Real path[width], absorb_or_store[width], psi[width], phi[width];
     };
 
     void trace_block(const detail::Block& block, detail::BlockResult<Record>& out) const {
         Lanes lanes{};
-        lanes.tally.assign(this->layers_.size(), {Reals(0.0), Reals(0.0), Reals(0.0), Reals(0.0)});
+        lanes.tally.assign(this->layers_.size(), {Reals(Real(0)), Reals(Real(0)), Reals(Real(0)), Reals(Real(0))});
         Launches launches;
         launches.first = block.begin;
         for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out.ledger);
-        while (any_of(Mask(lanes.alive, aligned))) step(lanes, launches, block.end, out);
-        for (int l = 0; l < width; ++l) out.ledger.absorbed += lanes.absorbed[l];
-        for (std::size_t i = 0; i < lanes.tally.size(); ++i)
-            for (int k = 0; k < 4; ++k)
-                for (int l = 0; l < width; ++l) out.tally[i][k] += lanes.tally[i][k][l];
+        for (std::uint64_t steps = 1; any_of(Mask(lanes.alive, aligned)); ++steps) {
+            step(lanes, launches, block.end, out);
+            if (in_floats && steps % flush_steps == 0) flush(lanes, out);
+        }
+        flush(lanes, out);
+    }
+
+    /// Adds the lanes' absorbed weight and tallies to the block's sums (in lane order), and
+    /// zeroes them.
+    static void flush(Lanes& L, detail::BlockResult<Record>& out) {
+        for (int l = 0; l < width; ++l) out.ledger.absorbed += L.absorbed[l];
+        std::fill(std::begin(L.absorbed), std::end(L.absorbed), Real(0));
+        for (std::size_t i = 0; i < L.tally.size(); ++i)
+            for (int k = 0; k < 4; ++k) {
+                for (int l = 0; l < width; ++l) out.tally[i][k] += L.tally[i][k][l];
+                L.tally[i][k] = Reals(Real(0));
+            }
     }
 
     /// Puts the block's next photon that enters the water into lane l (PhotonTracer::launch),
@@ -133,10 +156,11 @@ private:
         return {{L.x[l], L.y[l], L.z[l]}, {L.dx[l], L.dy[l], L.dz[l]}, L.w[l], static_cast<unsigned>(L.order[l]), 0};
     }
     static void put(Lanes& L, int l, const PhotonState& p) {
-        L.x[l] = p.pos.x, L.y[l] = p.pos.y, L.z[l] = p.pos.z;
-        L.dx[l] = p.dir.x, L.dy[l] = p.dir.y, L.dz[l] = p.dir.z;
-        L.w[l] = p.w;
-        L.order[l] = p.order;
+        const auto real = [](double v) { return static_cast<Real>(v); };
+        L.x[l] = real(p.pos.x), L.y[l] = real(p.pos.y), L.z[l] = real(p.pos.z);
+        L.dx[l] = real(p.dir.x), L.dy[l] = real(p.dir.y), L.dz[l] = real(p.dir.z);
+        L.w[l] = real(p.w);
+        L.order[l] = static_cast<Real>(p.order);
     }
 
     /// Runs a per-photon event `event(p, rng) -> bool` (false: the photon ends) on lane l's
@@ -158,7 +182,7 @@ private:
         next.used = 0;
         alignas(64) std::uint64_t first_block[width] = {}, stream[width];
         for (int l = 0; l < width; ++l) stream[l] = next.first + l;
-        lanes::philox_words(first_block, stream, key_, {next.bits[0], next.bits[1], next.bits[2], next.bits[3]});
+        lanes::philox_words<width>(first_block, stream, key_, {next.bits[0], next.bits[1], next.bits[2], next.bits[3]});
     }
 
     /// One Philox block per lane, as four uniforms.
@@ -177,20 +201,22 @@ private:
         const Mask alive(L.alive, aligned);
         // Free path (eq. 3.17): s = -ln(u) / c (b with continuous absorption), cut at the
         // surface or the floor if the photon gets there first.
-        const double floor_depth = this->slab_.floor_depth();
+        const Real floor_depth = static_cast<Real>(this->slab_.floor_depth());
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
         const Reals z_free = z + dz * s;
-        const Mask to_surface = z_free < 0.0, to_floor = z_free >= floor_depth;
+        const Mask to_surface = z_free < Real(0), to_floor = z_free >= floor_depth;
         Reals t = s, z1 = z_free;  // (the divisions only in the steps where a photon meets a boundary)
         if (any_of(to_surface || to_floor)) {
             t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
-            z1 = select(to_surface, Reals(0.0), z + dz * t);  // on the surface exactly (PhotonTracer::follow)
+            z1 = select(to_surface, Reals(Real(0)), z + dz * t);  // on the surface exactly (PhotonTracer::follow)
+            // In floats on the floor exactly too (its detector plane is the float below it).
+            if constexpr (in_floats) z1 = select(to_floor, Reals(floor_depth), z1);
         }
         fly(L, alive, t, z1, out);
         const Mask at_boundary = alive && (to_surface || to_floor);
         const Mask inside = alive && !at_boundary;
-        const lanes::Vec3 before{Reals(L.dx, aligned), Reals(L.dy, aligned), dz};
+        const Vec3 before{Reals(L.dx, aligned), Reals(L.dy, aligned), dz};
         const Reals w(L.w, aligned);  // after the flight
 
         // PhotonTracer::interact for the lanes inside: the scattering-order limit (manual
@@ -199,27 +225,27 @@ private:
         // new direction from the phase function.
         const Reals order(L.order, aligned);
         Mask truncated(false);
-        if (this->s_.max_order != 0) truncated = inside && order >= double(this->s_.max_order);
+        if (this->s_.max_order != 0) truncated = inside && order >= static_cast<Real>(this->s_.max_order);
         const Mask interacts = inside && !truncated;
         const Reals u_absorb_or_store(u.absorb_or_store, aligned);
         Mask absorbed(false);
         Reals w_after = w, absorbed_weight(L.absorbed, aligned);
         if (this->s_.absorption == AbsorptionMode::analog) {
-            absorbed = interacts && u_absorb_or_store >= this->w0_;
+            absorbed = interacts && u_absorb_or_store >= static_cast<Real>(this->w0_);
             lanes::stdx::where(absorbed, absorbed_weight) = absorbed_weight + w;
         } else if (this->s_.absorption == AbsorptionMode::implicit_capture) {
-            lanes::stdx::where(interacts, absorbed_weight) = absorbed_weight + w * (1.0 - this->w0_);
-            w_after = w * this->w0_;
+            lanes::stdx::where(interacts, absorbed_weight) = absorbed_weight + w * static_cast<Real>(1.0 - this->w0_);
+            w_after = w * static_cast<Real>(this->w0_);
         }  // continuous: every interaction scatters
         absorbed_weight.copy_to(L.absorbed, aligned);
         const Mask scatters = interacts && !absorbed;
         const auto [cos_psi, phi] = scattering_angles(u, Reals(L.z, aligned));
-        const lanes::Vec3 after = rotate_direction(before, cos_psi, phi);
+        const Vec3 after = rotate_direction(before, cos_psi, phi);
 
         store_events(L, scatters, w_after, u_absorb_or_store, out);
         scatter(L, scatters, w_after, after);
         Mask roulette(false);
-        if (this->s_.roulette_weight != 0.0) roulette = scatters && w_after < this->s_.roulette_weight;
+        if (this->s_.roulette_weight != 0.0) roulette = scatters && w_after < static_cast<Real>(this->s_.roulette_weight);
         // What only some photons meet, in one pass over their lanes in lane order (each kind
         // of event adds to its own ledger entries, so their sums keep the lanes' order); a lane
         // whose photon ended takes the block's next one.
@@ -249,7 +275,8 @@ private:
             using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
             const Mask tallies = alive && this->layers_.may_tally(min(z, z1), max(z, z1), abs(z) + abs(z1));
             lanes::for_each(tallies, [&](int l) {
-                this->layers_.record(Flight{L.z[l], z1[l], L.dz[l], t[l], L.w[l]}, this->medium_, out.tally.data());
+                this->layers_.record(Flight{depth(L.z[l]), depth(z1[l]), L.dz[l], t[l], L.w[l]}, this->medium_,
+                                     out.tally.data());
             });
         }
         (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
@@ -257,16 +284,26 @@ private:
         z1.copy_to(L.z, aligned);
         if (!this->continuous_) return;
         lanes::for_each(alive, [&](int l) {  // w exp(-a t), as PhotonTracer::fly
-            const double w = L.w[l] * std::exp(-this->medium_.optical_path(Coefficient::absorption, z[l], L.dz[l], t[l]));
+            const auto w = static_cast<Real>(
+                L.w[l] * std::exp(-this->medium_.optical_path(Coefficient::absorption, z[l], L.dz[l], t[l])));
             L.absorbed[l] += L.w[l] - w;
             L.w[l] = w;
         });
     }
 
+    /// A lane's depth as a double for PhotonTracer's per-flight functions: in float lanes a
+    /// photon on the floor is at float(floor depth) (step()), which is the floor's depth
+    /// itself there, so that the detector planes of record() see it on the floor.
+    double depth(Real z) const {
+        const double floor_depth = this->slab_.floor_depth();
+        if constexpr (in_floats) return z == static_cast<Real>(floor_depth) ? floor_depth : z;
+        return z;
+    }
+
     /// A lane's photon at the surface (Fresnel reflection or escape) or at the floor (the
     /// bottom's reflection, or transmission), by PhotonTracer's functions.
     void boundary(Lanes& L, int l, const Reals& z_free, detail::BlockResult<Record>& out) const {
-        const bool surface = z_free[l] < 0.0;
+        const bool surface = z_free[l] < Real(0);
         per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
             if (surface) return this->leave_or_reflect_at_surface(p, rng, out.ledger);
             if (this->slab_.bottom().kind != BottomKind::none) out.bottom_ed += p.w;
@@ -282,17 +319,17 @@ private:
         Mask keep = scatters && Mask(L.stores, aligned);
         if (this->s_.absorption != AbsorptionMode::analog) keep = keep && u < w;
         if (none_of(keep)) return;
-        const lanes::Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
-                                   Reals(L.z, aligned)};
-        const lanes::Vec3 direction{Reals(L.dx, aligned), Reals(L.dy, aligned), Reals(L.dz, aligned)};
+        const Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
+                            Reals(L.z, aligned)};
+        const Vec3 direction{Reals(L.dx, aligned), Reals(L.dy, aligned), Reals(L.dz, aligned)};
         Record* room = out.records.room(width);
         out.records.commit(LaneRecords<Record>::make_kept(position, direction, band_index{0}, L.batch,
                                                           lanes::bits_of(keep), room));
     }
 
     /// The scattered lanes take their new direction and weight, one order higher.
-    static void scatter(Lanes& L, const Mask& scatters, const Reals& w, const lanes::Vec3& after) {
-        auto update = [&](double* v, const Reals& value) {
+    static void scatter(Lanes& L, const Mask& scatters, const Reals& w, const Vec3& after) {
+        auto update = [&](Real* v, const Reals& value) {
             Reals current(v, aligned);
             lanes::stdx::where(scatters, current) = value;
             current.copy_to(v, aligned);
@@ -301,7 +338,7 @@ private:
         update(L.dy, after.y);
         update(L.dz, after.z);
         update(L.w, w);
-        update(L.order, Reals(L.order, aligned) + 1.0);
+        update(L.order, Reals(L.order, aligned) + Real(1));
     }
 
     struct Angles {
@@ -311,22 +348,27 @@ private:
     /// The scattering angles from the step's uniforms (psi, phi): in the vectors for a phase
     /// function with a lane sampler, else lane by lane (scattering_direction).
     Angles scattering_angles(const StepUniforms& u, const Reals& z) const {
-        if constexpr (LanePhaseSampler<typename M::phase_type>) {
-            return {this->medium_.phase().cos_psi(Reals(u.psi, aligned)), two_pi * Reals(u.phi, aligned)};
+        if constexpr (LanePhaseSampler<typename M::phase_type, Reals>) {
+            return {this->medium_.phase().cos_psi(Reals(u.psi, aligned)), static_cast<Real>(two_pi) * Reals(u.phi, aligned)};
         } else {
-            alignas(64) double cos_psi[width], phi[width];
+            alignas(64) Real cos_psi[width], phi[width];
             for (int l = 0; l < width; ++l) {
                 const PhaseDirection d = scattering_direction(this->medium_, z[l], u.psi[l], u.phi[l]);
-                cos_psi[l] = d.cos_psi;
-                phi[l] = d.phi;
+                cos_psi[l] = static_cast<Real>(d.cos_psi);
+                phi[l] = static_cast<Real>(d.phi);
             }
             return {Reals(cos_psi, aligned), Reals(phi, aligned)};
         }
     }
 
     lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)
-    double path_coefficient_;           ///< c, or b with continuous absorption (1/m)
+    Real path_coefficient_;             ///< c, or b with continuous absorption (1/m)
 };
+
+/// LaneTracer in float lanes (twice the lanes per vector), as a two-parameter template like
+/// PhotonTracer's.
+template <Medium M, PhotonRecord Record>
+using FloatLaneTracer = LaneTracer<M, Record, float>;
 
 }  // namespace secchi
 #endif

@@ -36,16 +36,17 @@ public:
     /// The direction of sample(u1, u2) without its density (what transport needs).
     PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
 
-    /// The inverse CDF above, for a double or for a SIMD vector of them (photons in lanes,
-    /// transport/lane_tracer.hpp): the same operations in the same order.
+    /// The inverse CDF above, for a double or for a SIMD vector of doubles or floats (photons
+    /// in lanes, transport/lane_tracer.hpp): the same operations in the same order.
     template <class Real>
     Real cos_psi(Real u1) const {
         using std::max, std::min;
-        const Real s = 2.0 * u1 - 1.0;
-        const double g = g_;
-        const Real num = s + 0.5 * g * (3.0 + s * s) + g * g * s + 0.5 * g * g * g * (s * s - 1.0);
-        const Real den = (1.0 + g * s) * (1.0 + g * s);
-        return min(max(num / den, Real(-1.0)), Real(1.0));  // std::clamp(num / den, -1, 1)
+        using T = scalar_t<Real>;
+        const Real s = T(2) * u1 - T(1);
+        const T g = T(g_);
+        const Real num = s + T(0.5) * g * (T(3) + s * s) + g * g * s + T(0.5) * g * g * g * (s * s - T(1));
+        const Real den = (T(1) + g * s) * (T(1) + g * s);
+        return min(max(num / den, Real(T(-1))), Real(T(1)));  // std::clamp(num / den, -1, 1)
     }
 
     double g() const { return g_; }
