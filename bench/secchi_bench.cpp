@@ -2,7 +2,8 @@
 //   secchi_bench [--quick] [--json FILE]
 // Each figure is the median of repeated timed runs. Propagation: scattering events per second
 // per core (analog transport, w0 = 0.9, every scattering stored), for the Henyey-Greenstein
-// (g = 0.9) and Petzold samplers, and for HG with LaneTracer (photons in SIMD lanes); photons per second for problems 1a, 2a and 2b on 1 and 2
+// (g = 0.9) and Petzold samplers, and for HG with LaneTracer (photons in SIMD lanes of doubles,
+// and of floats); photons per second for problems 1a, 2a and 2b on 1 and 2
 // threads (thread_speedup_propagation is problem 2a's). Collection: rays per
 // second through a problem-2a map, k-d tree spheres at n = 32 against the VOI cylinder at the
 // same radius and at equal photons per ray (the speed-ups paired: the two timed in turn, round
@@ -112,6 +113,12 @@ int main(int argc, char** argv) {
         fig["events_per_s_per_core_hg_lanes_map_reused"] =
             events_per_second<HenyeyGreensteinPhase, LaneTracer>(hg, 100'000 * scale, repeats, true);
         fig["lane_width"] = lanes::lane_width;
+        // The same in float lanes (twice as many per vector: FloatLaneTracer).
+        fig["events_per_s_per_core_hg_float_lanes"] =
+            events_per_second<HenyeyGreensteinPhase, FloatLaneTracer>(hg, 100'000 * scale, repeats);
+        fig["events_per_s_per_core_hg_float_lanes_map_reused"] =
+            events_per_second<HenyeyGreensteinPhase, FloatLaneTracer>(hg, 100'000 * scale, repeats, true);
+        fig["float_lane_width"] = lanes::width_of<float>;
 #endif
 
         // Photons per second for problems 1a, 2a and 2b (sun at 60 deg, n = 1.34, continuous

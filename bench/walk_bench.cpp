@@ -13,8 +13,9 @@
 //  - scalar float with xoshiro256+ (logf, sinf, cosf);
 //  - lanes: one photon per SIMD lane (std::experimental::simd of doubles at the target's
 //    native width), the log, sine and cosine by branch-free polynomials, xoshiro256+ or
-//    Philox per lane; a lane whose photon ends starts the next one.
-// And secchi: PhotonTracer and LaneTracer on the same problem (slab 42 m deep, detectors at
+//    Philox per lane; a lane whose photon ends starts the next one. And the same in float
+//    lanes (twice as many) with Philox.
+// And secchi: PhotonTracer, LaneTracer and LaneTracer in float lanes on the same problem (slab 42 m deep, detectors at
 // 1, 5, 10 m, CompactRecord with Jensen's direction bytes, analog absorption: secchi_bench's
 // events_per_s_per_core_hg), with their ratios to each walk. Like the bare walks, which write
 // into one vector reserved once, the tracers write each run's map into the previous run's
@@ -148,6 +149,8 @@ constexpr int lane_count = lanes::lane_width;
 /// Four uniforms per lane and step: xoshiro256+ per lane.
 class XoshiroLanes {
 public:
+    using Lanes = V;
+    static constexpr int width = lane_count;
     XoshiroLanes() {
         std::uint64_t seed = 1, w[4][lane_count];
         for (int l = 0; l < lane_count; ++l)
@@ -164,73 +167,81 @@ private:
 };
 
 /// Four uniforms per lane and step: one Philox4x32-10 block of the lane's photon stream
-/// (lanes::philox_uniforms, LaneTracer's draw).
+/// (lanes::philox_uniforms, LaneTracer's draw), in lanes of Real (double or float).
+template <class Real = double>
 class PhiloxLanes {
 public:
+    using Lanes = lanes::LanesOf<Real>;
+    static constexpr int width = lanes::width_of<Real>;
     void start(int lane, std::uint64_t photon) {
         ctr_[lane] = 0;
         stream_[lane] = photon;
     }
-    void draw(V (&u)[4]) {
-        alignas(64) double w[4][lane_count];
+    void draw(Lanes (&u)[4]) {
+        alignas(64) Real w[4][width];
         lanes::philox_uniforms(ctr_, stream_, key_, {w[0], w[1], w[2], w[3]});
-        for (int k = 0; k < 4; ++k) u[k] = V(w[k], lanes::aligned);
+        for (int k = 0; k < 4; ++k) u[k] = Lanes(w[k], lanes::aligned);
         for (auto& c : ctr_) ++c;
     }
 
 private:
-    std::uint64_t ctr_[lane_count] = {}, stream_[lane_count] = {};
+    alignas(64) std::uint64_t ctr_[width] = {};
+    alignas(64) std::uint64_t stream_[width] = {};
     lanes::PhiloxKey key_{{1, 0}};  // seed 1
 };
 
-/// The bare walk with one photon per lane, branch-free except where a photon ends.
-template <class Lanes>
+/// The bare walk with one photon per lane, branch-free except where a photon ends (lanes of
+/// doubles, or of floats with Philox: twice as many per vector).
+template <class Rng>
 std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
-    constexpr double g = g_hg;
-    Lanes rng;
-    V x(0.0), y(0.0), z(0.0), dx(0.0), dy(0.0), dz(1.0);
+    using W = typename Rng::Lanes;
+    using T = typename W::value_type;
+    constexpr int width = Rng::width;
+    constexpr T g = T(g_hg), one = 1;
+    Rng rng;
+    W x(T(0)), y(T(0)), z(T(0)), dx(T(0)), dy(T(0)), dz(one);
     std::uint64_t next = 0;
     int live = 0;
-    bool alive[lane_count] = {};
+    bool alive[width] = {};
     auto start = [&](int l) {  // lane l takes the next photon, or idles (parked above z = 0)
         alive[l] = next < photons;
         live += alive[l];
         if (alive[l]) rng.start(l, next++);
-        x[l] = y[l] = dx[l] = dy[l] = 0.0;
-        z[l] = alive[l] ? 0.0 : -1e300;
-        dz[l] = 1.0;
+        x[l] = y[l] = dx[l] = dy[l] = T(0);
+        z[l] = alive[l] ? T(0) : T(-1e30);
+        dz[l] = one;
     };
-    for (int l = 0; l < lane_count; ++l) start(l);
+    for (int l = 0; l < width; ++l) start(l);
     std::size_t n = 0;
     out.resize(1 << 20);
     while (live > 0) {
-        V u[4];
+        W u[4];
         rng.draw(u);
-        const V s = -lanes::log(u[0]);
+        const W s = -lanes::log(u[0]);
         x += dx * s;
         y += dy * s;
         z += dz * s;
-        const auto ends = (z < 0.0) || (u[1] >= w0);
-        if (n + lane_count > out.size()) out.resize(2 * out.size());
-        for (int l = 0; l < lane_count; ++l) {  // every lane writes; the count advances for kept events
-            out[n] = walk_record<double>(x[l], y[l], z[l], dx[l], dz[l]);
+        const auto ends = (z < T(0)) || (u[1] >= T(w0));
+        if (n + width > out.size()) out.resize(2 * out.size());
+        for (int l = 0; l < width; ++l) {  // every lane writes; the count advances for kept events
+            out[n] = walk_record<T>(x[l], y[l], z[l], dx[l], dz[l]);
             n += !ends[l];
         }
-        const V t = (1.0 - g * g) / (1.0 - g + 2.0 * g * u[2]);
-        const V ct = (1.0 + g * g - t * t) / (2.0 * g), st = stdx::sqrt(stdx::max(V(0.0), 1.0 - ct * ct));
-        const auto [sp, cp] = sin_cos(V(two_pi * u[3]));
+        const W t = (one - g * g) / (one - g + T(2) * g * u[2]);
+        const W ct = (one + g * g - t * t) / (T(2) * g), st = stdx::sqrt(stdx::max(W(T(0)), one - ct * ct));
+        const auto [sp, cp] = sin_cos(W(T(two_pi) * u[3]));
         // The frame of secchi::rotate_direction (Duff et al. 2017), branch-free.
-        const V sign = stdx::copysign(V(1.0), dz), a = -1.0 / (sign + dz), b = dx * dy * a;
-        const V sc = st * cp, ss = st * sp;
-        const V nx = sc * (1.0 + sign * dx * dx * a) + ss * b + ct * dx;
-        const V ny = sc * (sign * b) + ss * (sign + dy * dy * a) + ct * dy;
-        const V nz = -(sc * sign * dx) - ss * dy + ct * dz;
-        const V norm = 1.5 - 0.5 * (nx * nx + ny * ny + nz * nz);
+        const W sign = stdx::copysign(W(one), dz), a = -one / (sign + dz), b = dx * dy * a;
+        const W sc = st * cp, ss = st * sp;
+        const W nx = sc * (one + sign * dx * dx * a) + ss * b + ct * dx;
+        const W ny = sc * (sign * b) + ss * (sign + dy * dy * a) + ct * dy;
+        const W nz = -(sc * sign * dx) - ss * dy + ct * dz;
+        const W norm = T(1.5) - T(0.5) * (nx * nx + ny * ny + nz * nz);
         dx = nx * norm;
         dy = ny * norm;
         dz = nz * norm;
         if (stdx::any_of(ends))
-            for (int l = 0; l < lane_count; ++l)
+            for (int l = 0; l < width; ++l)
                 if (ends[l] && alive[l]) {
                     --live;
                     start(l);
@@ -292,8 +303,9 @@ int main(int argc, char** argv) {
             for (const auto& r : records) sum += r.z;
             return sum / static_cast<double>(records.size());
         };
-        double photon_tracer_depth = 0, lane_tracer_depth = 0, lane_tracer_fresh_depth = 0;
-        std::vector<CompactRecord> photon_tracer_map, lane_tracer_map;
+        double photon_tracer_depth = 0, lane_tracer_depth = 0, float_lane_tracer_depth = 0, lane_tracer_fresh_depth = 0,
+               float_lane_tracer_fresh_depth = 0;
+        std::vector<CompactRecord> photon_tracer_map, lane_tracer_map, float_lane_tracer_map;
         std::vector<Variant> variants{
             {"secchi PhotonTracer (HG, slab, detectors, CompactRecord; map memory reused)",
              [&](std::uint64_t n) { return secchi_tracer<PhotonTracer>(n, photon_tracer_depth, &photon_tracer_map); },
@@ -303,9 +315,16 @@ int main(int argc, char** argv) {
                  " double lanes; the same problem; map memory reused)",
              [&](std::uint64_t n) { return secchi_tracer<LaneTracer>(n, lane_tracer_depth, &lane_tracer_map); },
              [&] { return lane_tracer_depth; }},
+            {"secchi LaneTracer in float lanes (" + std::to_string(lanes::width_of<float>) +
+                 " float lanes; FloatLaneTracer; map memory reused)",
+             [&](std::uint64_t n) { return secchi_tracer<FloatLaneTracer>(n, float_lane_tracer_depth, &float_lane_tracer_map); },
+             [&] { return float_lane_tracer_depth; }},
             {"secchi LaneTracer, fresh map memory every run",
              [&](std::uint64_t n) { return secchi_tracer<LaneTracer>(n, lane_tracer_fresh_depth, nullptr); },
              [&] { return lane_tracer_fresh_depth; }},
+            {"secchi LaneTracer in float lanes, fresh map memory every run",
+             [&](std::uint64_t n) { return secchi_tracer<FloatLaneTracer>(n, float_lane_tracer_fresh_depth, nullptr); },
+             [&] { return float_lane_tracer_fresh_depth; }},
 #endif
             {"bare walk, scalar double, xoshiro256+", walk(scalar_walk_xoshiro<double>), walk_depth},
             {"bare walk, scalar double, Philox per photon", walk(scalar_walk_philox), walk_depth},
@@ -314,17 +333,19 @@ int main(int argc, char** argv) {
 #ifdef SECCHI_WALK_LANES
         const std::string width = std::to_string(lane_count) + " double lanes";
         variants.push_back({"bare walk, " + width + ", xoshiro256+ per lane", walk(lanes_walk<XoshiroLanes>), walk_depth});
-        variants.push_back({"bare walk, " + width + ", Philox per photon", walk(lanes_walk<PhiloxLanes>), walk_depth});
+        variants.push_back({"bare walk, " + width + ", Philox per photon", walk(lanes_walk<PhiloxLanes<double>>), walk_depth});
+        variants.push_back({"bare walk, " + std::to_string(lanes::width_of<float>) + " float lanes, Philox per photon",
+                            walk(lanes_walk<PhiloxLanes<float>>), walk_depth});
 #endif
         out("| variant | events | mean event depth | events/s per core, median [min-max] | PhotonTracer / variant | "
-            "LaneTracer / variant |");
-        out("|---|---|---|---|---|---|");
+            "LaneTracer / variant | LaneTracer in float lanes / variant |");
+        out("|---|---|---|---|---|---|---|");
         struct Row {
             std::size_t events;
             Timing t;
             double mean_depth;
         };
-        std::vector<Row> rows;  // PhotonTracer's first, then LaneTracer's (where built)
+        std::vector<Row> rows;  // PhotonTracer's first, then LaneTracer's and its float lanes' (where built)
         for (const auto& v : variants) {
             std::size_t events = 0;
             const Timing t = time_runs(repeats, [&] { events = v.run(photons); });
@@ -334,7 +355,8 @@ int main(int argc, char** argv) {
         for (std::size_t i = 0; i < rows.size(); ++i)
             out("| " + variants[i].name + " | " + std::to_string(rows[i].events) + " | " + fmt("%.4f", rows[i].mean_depth) +
                 " | " + rate_cell(rows[i].t, static_cast<double>(rows[i].events)) + " | " + fmt("%.2f", rate(0) / rate(i)) +
-                " | " + (SECCHI_HAS_LANES ? fmt("%.2f", rate(1) / rate(i)) : std::string("-")) + " |");
+                " | " + (SECCHI_HAS_LANES ? fmt("%.2f", rate(1) / rate(i)) : std::string("-")) + " | " +
+                (SECCHI_HAS_LANES ? fmt("%.2f", rate(2) / rate(i)) : std::string("-")) + " |");
         out("");
         out(std::to_string(photons) + " photons per run, median of " + std::to_string(repeats) +
             " runs, 1 thread. HG g = 0.9, w0 = 0.9; see bench/walk_bench.cpp for the walks. The events and their mean "

@@ -30,7 +30,7 @@ using namespace secchi;
 
 constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all [--photons N] --store kdtree|voi|voi-grid --seed S
                  --threads T --json FILE [--exr FILE] [--quick] [--material FILE] [--profile-csv FILE]
-                 [--tracer photon|lanes]
+                 [--tracer photon|lanes|lanes-float]
 Runs Mobley et al. 1993 problems 1, 2 and 3 (sun at 60 deg, flat surface n = 1.34, black sky,
 infinitely deep water; problems 1 and 2 with c = 1 /m, problem 3 stratified at 500 nm) and
 scores them against M93 Table 5. Problem 3's medium is composed at compile time
@@ -44,8 +44,9 @@ photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 --petzold petzold|petzold-linear|petzold-linear-flat chooses the particle phase function of
 problems 2a, 2b and 3 (default petzold: M93 Table 2, trapezoidal convention, power law below
 0.12589 deg, the canonical definition; the others are for investigation).
---tracer photon|lanes (default photon): lanes traces problems 1 and 2 with LaneTracer (photons
-in SIMD lanes); problem 3's stratified water is always traced by PhotonTracer.
+--tracer photon|lanes|lanes-float (default photon): lanes traces problems 1 and 2 with
+LaneTracer (photons in SIMD lanes of doubles), lanes-float in lanes of floats; problem 3's
+stratified water is always traced by PhotonTracer.
 )";
 
 /// A problem and the default photon budget that meets the scoring bar.

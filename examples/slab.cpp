@@ -23,8 +23,9 @@ Depths and lengths are optical (c = 1 /m). Defaults:
   --absorption continuous|implicit|analog (default continuous: free paths from b, weight
                exp(-a s) along each flight; implicit: weight x w0 per collision; analog)
   --bottom-albedo 0 (with --bottom-depth: a Lambertian bottom)
-  --tracer photon|lanes (default photon; lanes: photons in SIMD lanes, the same estimates,
-               faster when built for AVX2 or better, e.g. -march=native)
+  --tracer photon|lanes|lanes-float (default photon; lanes: photons in SIMD lanes, the same
+               estimates, faster when built for AVX2 or better, e.g. -march=native;
+               lanes-float: in float lanes, twice as many per vector)
 )";
 
 void print_table(const secchi::PlaneParallelResult& r) {

@@ -47,13 +47,15 @@ inline StoreKind parse_store(const std::string& s) {
 
 /// Which first pass traces the photons: PhotonTracer, or LaneTracer (photons in SIMD lanes;
 /// homogeneous water without depth importance; the same estimates, faster where the target
-/// has wide vectors).
-enum class TracerKind { photon, lanes };
+/// has wide vectors) in lanes of doubles ("lanes") or of floats ("lanes-float": twice the
+/// lanes, the photons' state rounded to float between events).
+enum class TracerKind { photon, lanes, float_lanes };
 
 inline TracerKind parse_tracer(const std::string& s) {
     if (s == "photon") return TracerKind::photon;
     if (s == "lanes") return TracerKind::lanes;
-    reject("tracer", s, "must be photon or lanes");
+    if (s == "lanes-float") return TracerKind::float_lanes;
+    reject("tracer", s, "must be photon, lanes or lanes-float");
 }
 
 struct PlaneParallelConfig {
@@ -106,10 +108,13 @@ TransportResult<Record> first_pass(const M& medium, const Slab& slab, const Plan
     const FlatSurface surface(cfg.water_index);
     const CollimatedSun sun(cfg.sun_zenith_deg);
 #if SECCHI_HAS_LANES
-    if constexpr (depth_independent<M>)
+    if constexpr (depth_independent<M>) {
         if (cfg.tracer == TracerKind::lanes) return LaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+        if (cfg.tracer == TracerKind::float_lanes)
+            return FloatLaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+    }
 #endif
-    require(cfg.tracer == TracerKind::photon, "tracer", "lanes",
+    require(cfg.tracer == TracerKind::photon, "tracer", cfg.tracer == TracerKind::lanes ? "lanes" : "lanes-float",
             "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
     return PhotonTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
 }
