@@ -14,8 +14,24 @@
 #include <mutex>
 #include <utility>
 #include <vector>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace secchi::detail {
+
+/// Asks the kernel to back the whole 2 MiB pages inside [p, p + bytes) with transparent huge
+/// pages where it does so on request (Linux's "madvise" mode): the first touch of fresh map
+/// memory then faults once per 2 MiB instead of once per 4 KiB. A hint: the memory and its
+/// contents are unchanged, and elsewhere, or if the kernel declines, nothing happens.
+inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr std::uintptr_t huge = std::uintptr_t{1} << 21;
+    const auto first = reinterpret_cast<std::uintptr_t>(p);
+    const std::uintptr_t begin = (first + huge - 1) & ~(huge - 1), end = (first + bytes) & ~(huge - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+}
 
 /// One work unit: photons [begin, end) all of one batch.
 struct Block {
@@ -178,6 +194,7 @@ private:
             const double per_photon = static_cast<double>(needed) / done;
             const auto expected = static_cast<std::size_t>(1.125 * per_photon * static_cast<double>(map_photons_));
             records_.reserve(std::max(needed, expected));
+            advise_huge_pages(records_.data() + records_.size(), (records_.capacity() - records_.size()) * sizeof(Record));
         }
         chunks.move_to(records_);
     }
