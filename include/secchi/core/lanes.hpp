@@ -7,10 +7,10 @@
 // transmittances of many collected photons at once (estimate/path_radiance.hpp).
 //
 // The lanes are the target's native vector of doubles (2 with SSE2, 4 with AVX2, 8 with
-// AVX-512): a portable build gains little from them; one for AVX2 or better does
-// (BENCHMARKS.md). A photon's history does not depend on the lane count (each photon draws
-// from its own random stream); the order of the stored records and the rounding of the
-// tallies' sums do.
+// AVX-512), or of floats (twice as many: LaneTracer's float lanes): a portable build gains
+// little from them; one for AVX2 or better does (BENCHMARKS.md). A photon's history does not
+// depend on the lane count (each photon draws from its own random stream); the order of the
+// stored records and the rounding of the tallies' sums do.
 #if __has_include(<experimental/simd>)
 // GCC 12's AVX-512 intrinsics (included through <experimental/simd>) warn about their own
 // deliberately undefined vectors (GCC bug 105593, fixed in GCC 13); the warnings point into
@@ -232,7 +232,18 @@ inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             float* const (&u)[4]) {
     constexpr int width = width_of<float>;
-#if defined(__AVX2__) && !defined(__AVX512DQ__)
+#if defined(__AVX512DQ__)
+    // The 64-bit rounds of lane_width lanes at a time, their words' top 24 bits made floats.
+    using Words32 = stdx::rebind_simd_t<std::uint32_t, Reals>;
+    using Floats32 = stdx::rebind_simd_t<float, Reals>;
+    for (int g = 0; g < width; g += lane_width) {
+        const auto [x] = philox_rounds(block + g, stream + g, key);
+        for (int k = 0; k < 4; ++k) {
+            const Floats32 top = stdx::static_simd_cast<Floats32>(stdx::static_simd_cast<Words32>(x[k]) >> 8);
+            ((top + 0.5f) * 0x1p-24f).copy_to(u[k] + g, stdx::element_aligned);
+        }
+    }
+#elif defined(__AVX2__)
     static_assert(width % 8 == 0);
     const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
     for (int g = 0; g < width; g += 8) {

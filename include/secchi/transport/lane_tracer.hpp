@@ -19,6 +19,19 @@
 // For homogeneous water (depth_independent media), without depth importance (use
 // PhotonTracer for those). Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
 // Henyey-Greenstein) sample in the vectors; any other samples lane by lane.
+//
+// In lanes of doubles (LaneTracer<M, R>) or of floats (FloatLaneTracer<M, R> =
+// LaneTracer<M, R, float>: twice the lanes per vector, 8 with AVX2). In float lanes a step's
+// uniforms are the top 24 bits of the same Philox words (uniform_float_from_bits), so a
+// photon's history follows the double lanes' one closely until rounding sends it another
+// way; positions, directions and weights are rounded to float between events, each a
+// relative 6e-8 (the map's records hold float positions anyway); the kernels (log, sin_cos,
+// rotation, HG, the direction bytes) are within bounds set by float rounding
+// (tests/test_lane_tracer.cpp). A flight to the floor ends on float(floor depth), and a
+// detector plane on the bottom is the float just above it, so the bottom's plane counts
+// every photon arriving (tested against the ledger). The tallies are summed in float per
+// lane for at most flush_steps steps, then in double. The canonical problems 1 and 2 come
+// out within 0.04 combined standard errors of the double lanes' (BENCHMARKS.md).
 #include "secchi/core/lanes.hpp"
 #include "secchi/map/record_lanes.hpp"
 #include "secchi/transport/tracer.hpp"
