@@ -152,36 +152,30 @@ TEST_CASE("exp in lanes equals exp_table lane by lane") {
     CHECK(worst == 0.0);  // the same operations: the estimator's sums rely on it (test_estimate.cpp)
 }
 
-TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's, bit for bit") {
+// Doubles: PhotonRng's uniforms; floats: the top 24 bits of the same words. Both within (0, 1).
+TEMPLATE_TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's words, bit for bit", "", double, float) {
+    using T = TestType;
+    constexpr int width = lanes::width_of<T>;
+    const auto uniform_of = [](std::uint32_t w) -> T {
+        if constexpr (std::is_same_v<T, float>) return uniform_float_from_bits(w);
+        else return uniform_from_bits(w);
+    };
     const std::array<std::uint32_t, 2> key{0x9abcdef0u, 0x12345678u};
     for (std::uint64_t first : {0ull, 1ull << 31, (1ull << 32) - 3, 0xfedcba9876543210ull}) {
-        alignas(64) std::uint64_t block[lane_width], stream[lane_width];
-        alignas(64) double u[4][lane_width];
-        for (int l = 0; l < lane_width; ++l) block[l] = first + 977 * l, stream[l] = ~first - 13 * l;
-        alignas(64) std::uint32_t bits[4][lane_width];
+        alignas(64) std::uint64_t block[width], stream[width];
+        alignas(64) T u[4][width];
+        for (int l = 0; l < width; ++l) block[l] = first + 977 * l, stream[l] = ~first - 13 * l;
+        alignas(64) std::uint32_t bits[4][width];
         lanes::philox_uniforms(block, stream, lanes::PhiloxKey(key), {u[0], u[1], u[2], u[3]});
-        lanes::philox_words(block, stream, lanes::PhiloxKey(key), {bits[0], bits[1], bits[2], bits[3]});
-        for (int l = 0; l < lane_width; ++l) {
+        lanes::philox_words<width>(block, stream, lanes::PhiloxKey(key), {bits[0], bits[1], bits[2], bits[3]});
+        for (int l = 0; l < width; ++l) {
+            const auto words = philox_block(block[l], stream[l], key);
             PhotonRng rng(0x123456789abcdef0ull, stream[l], block[l]);
-            for (int k = 0; k < 4; ++k) REQUIRE(u[k][l] == rng.uniform());
-            const auto words = philox_block(block[l], stream[l], key);
-            for (int k = 0; k < 4; ++k) REQUIRE(bits[k][l] == words[k]);
-        }
-    }
-}
-
-TEST_CASE("Philox uniforms in float lanes are PhotonRng's words' top 24 bits, bit for bit") {
-    const std::array<std::uint32_t, 2> key{0x9abcdef0u, 0x12345678u};
-    for (std::uint64_t first : {0ull, 1ull << 31, (1ull << 32) - 3, 0xfedcba9876543210ull}) {
-        alignas(64) std::uint64_t block[float_width], stream[float_width];
-        alignas(64) float u[4][float_width];
-        for (int l = 0; l < float_width; ++l) block[l] = first + 977 * l, stream[l] = ~first - 13 * l;
-        lanes::philox_uniforms(block, stream, lanes::PhiloxKey(key), {u[0], u[1], u[2], u[3]});
-        for (int l = 0; l < float_width; ++l) {
-            const auto words = philox_block(block[l], stream[l], key);
             for (int k = 0; k < 4; ++k) {
-                REQUIRE(u[k][l] == uniform_float_from_bits(words[k]));
-                REQUIRE((u[k][l] > 0.0f && u[k][l] < 1.0f));
+                REQUIRE(bits[k][l] == words[k]);
+                REQUIRE(rng.bits() == words[k]);
+                REQUIRE(u[k][l] == uniform_of(words[k]));
+                REQUIRE((u[k][l] > T(0) && u[k][l] < T(1)));
             }
         }
     }
