@@ -45,7 +45,8 @@ public:
             // it sits a rounding margin above it, so flights ending or starting there cross it.
             planes_.push_back(std::isfinite(floor_depth) ? std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12) : z);
             // In float lanes the flights to the floor end on float(floor depth) exactly
-            // (transport/lane_tracer.hpp): the plane is the float below it, or below the depth.
+            // (transport/lane_tracer.hpp): the plane is the next float shallower than that, or the
+            // depth's own float if shallower still.
             float plane = static_cast<float>(planes_.back());
             if (std::isfinite(floor_depth) && plane >= static_cast<float>(floor_depth))
                 plane = std::nextafter(static_cast<float>(floor_depth), 0.0f);
@@ -94,7 +95,7 @@ public:
     /// (NoAbsorption), for the lanes in `active`: the same tests and arithmetic lane by lane,
     /// each layer's tallies summed per lane into `tally` (the caller sums the lanes).
     /// tests/test_lane_tracer.cpp checks it against record(). In floats the planes and layers
-    /// are rounded to float, and a plane on the bottom is the float below the floor's.
+    /// are rounded to float, and a plane on the bottom is the next float shallower than the floor's.
     template <class Real, class Mask>
     SECCHI_KERNEL void record_lanes(const Real& z0, const Real& z1, const Real& uz, const Real& s, const Real& w,
                                     const Mask& active, std::array<Real, 4>* tally) const {

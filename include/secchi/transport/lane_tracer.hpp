@@ -28,7 +28,7 @@
 // relative 6e-8 (the map's records hold float positions anyway); the kernels (log, sin_cos,
 // rotation, HG, the direction bytes) are within bounds set by float rounding
 // (tests/test_lane_tracer.cpp). A flight to the floor ends on float(floor depth), and a
-// detector plane on the bottom is the float just above it, so the bottom's plane counts
+// detector plane on the bottom is the next float shallower, so the bottom's plane counts
 // every photon arriving (tested against the ledger). The tallies are summed in float per
 // lane for at most flush_steps steps, then in double. The canonical problems 1 and 2 come
 // out within 0.04 combined standard errors of the double lanes' (BENCHMARKS.md).
@@ -223,7 +223,7 @@ private:
         if (any_of(to_surface || to_floor)) {
             t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
             z1 = select(to_surface, Reals(Real(0)), z + dz * t);  // on the surface exactly (PhotonTracer::follow)
-            // In floats on the floor exactly too (its detector plane is the float below it).
+            // In floats on the floor exactly too (its detector plane is the next float shallower).
             if constexpr (in_floats) z1 = select(to_floor, Reals(floor_depth), z1);
         }
         fly(L, alive, t, z1, out);
