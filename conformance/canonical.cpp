@@ -28,7 +28,7 @@ namespace {
 
 using namespace secchi;
 
-constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all [--photons N] --store kdtree|voi|voi-grid --seed S
+constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all|LIST [--photons N] --store kdtree|voi|voi-grid --seed S
                  --threads T --json FILE [--exr FILE] [--quick] [--material FILE] [--profile-csv FILE]
                  [--tracer photon|lanes|lanes-float]
 Runs Mobley et al. 1993 problems 1, 2 and 3 (sun at 60 deg, flat surface n = 1.34, black sky,
@@ -268,9 +268,20 @@ int main(int argc, char** argv) {
                              {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material",
                               "profile-csv", "importance-cosine", "tracer"},
                              {"quick"});
+        // One problem, all of them, or a comma-separated list (e.g. 1a,1b,2a,2b).
         const std::string which = cl.required_text("problem");
-        if (which != "all" && std::none_of(problems.begin(), problems.end(), [&](auto& p) { return p.id == which; }))
-            reject("--problem", which, "must be 1a, 1b, 2a, 2b, 3 or all");
+        std::vector<std::string> chosen;
+        for (std::size_t at = 0; at <= which.size();) {
+            const std::size_t comma = std::min(which.find(',', at), which.size());
+            chosen.push_back(which.substr(at, comma - at));
+            at = comma + 1;
+        }
+        for (const std::string& id : chosen)
+            if (id != "all" && std::none_of(problems.begin(), problems.end(), [&](auto& p) { return p.id == id; }))
+                reject("--problem", which, "must be 1a, 1b, 2a, 2b, 3, all, or a comma-separated list of them");
+        const auto wanted = [&](const std::string& id) {
+            return std::any_of(chosen.begin(), chosen.end(), [&](const std::string& c) { return c == "all" || c == id; });
+        };
         const bool quick = cl.has("quick");
         const std::string json = cl.text("json");
         const std::string exr =
@@ -280,7 +291,7 @@ int main(int argc, char** argv) {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<Entry> entries;
         for (const auto& p : problems)
-            if (which == "all" || which == p.id)
+            if (wanted(p.id))
                 for (auto& e : run_problem(p, cl, quick, exr, profile_csv)) entries.push_back(std::move(e));
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::printf("\n%-4s %5s  %-4s %11s %9s %10s %7s %9s %8s %8s\n", "prob", "tau", "qty", "value", "se",

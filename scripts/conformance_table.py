@@ -2,6 +2,7 @@
 """Markdown table of canonical-runner results for each photon store, beside M93 Table 5 and
 the manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
 problems 1 and 2, metres for problem 3. A store's name is its file's: conformance_<store>.json.
+The first file sets the rows; later ones may hold some problems only.
 usage: conformance_table.py conformance_kdtree.json conformance_voi.json [conformance_voi-grid.json ...]"""
 import json
 import os
@@ -17,7 +18,8 @@ DIRSIG = {  # manual Tables 7.1 and 7.2 (single maps of up to 1e7 photons)
 QTY = {"Ed": 0, "Eou": 1, "Lu": 2}
 
 
-NAMES = {"kdtree": "k-d tree", "voi": "VOI octree", "voi-grid": "VOI grid"}
+NAMES = {"kdtree": "k-d tree", "voi": "VOI octree", "voi-grid": "VOI grid",
+         "voi-grid_lanes-float": "VOI grid, float lanes"}
 
 
 def store_name(path):
@@ -30,14 +32,16 @@ def store_name(path):
 def main(paths):
     stores = [{(e["problem"], e["depth"], e["quantity"]): e for e in json.load(open(p))["entries"]} for p in paths]
     names = [store_name(p) for p in paths]
-    verdict = lambda e: ("pass" if e["pass"] else "FAIL") if e["scored"] else "rep."
-    cells = lambda e: (f"{e['value']:.4g} ({100*e['se']/abs(e['value']) if e['value'] else float('inf'):.2f}%) "
-                       f"| {100*e['relative_error']:+.2f}%")
+    # A file may hold some problems only (e.g. the float lanes' 1 and 2): "-" where it has none.
+    verdict = lambda e: "-" if e is None else ("pass" if e["pass"] else "FAIL") if e["scored"] else "rep."
+    cells = lambda e: "- | -" if e is None else (
+        f"{e['value']:.4g} ({100*e['se']/abs(e['value']) if e['value'] else float('inf'):.2f}%) "
+        f"| {100*e['relative_error']:+.2f}%")
     print("| problem | depth | qty | M93 mean | s/x | " + " | ".join(f"{n} (SE) | err" for n in names) +
           " | pass " + "/".join(names) + " | DIRSIG | DIRSIG err |")
     print("|---|---|---|---|---|" + "---|---|" * len(names) + "---|---|---|")
     for key, a in stores[0].items():
-        entries = [store[key] for store in stores]
+        entries = [store.get(key) for store in stores]
         d = DIRSIG[(key[0], int(key[1]))][QTY[key[2]]]
         print(f"| {key[0]} | {key[1]:g} | {key[2]} | {a['reference']:.3g} | {100*a['spread']:.1f}% | "
               + " | ".join(cells(e) for e in entries)
