@@ -18,7 +18,8 @@
 //
 // For homogeneous water (depth_independent media), without depth importance (use
 // PhotonTracer for those). Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
-// Henyey-Greenstein) sample in the vectors; any other samples lane by lane.
+// Henyey-Greenstein, or a table with the trapezoid convention such as Petzold) sample in the
+// vectors; any other samples lane by lane.
 //
 // In lanes of doubles (LaneTracer<M, R>) or of floats (FloatLaneTracer<M, R> =
 // LaneTracer<M, R, float>: twice the lanes per vector, 8 with AVX2). In float lanes a step's
@@ -359,18 +360,28 @@ private:
     };
 
     /// The scattering angles from the step's uniforms (psi, phi): in the vectors for a phase
-    /// function with a lane sampler, else lane by lane (scattering_direction).
+    /// function with a lane sampler (in float lanes also one for double lanes only, e.g. a
+    /// table, by groups of double lanes), else lane by lane (scattering_direction).
     Angles scattering_angles(const StepUniforms& u, const Reals& z) const {
+        const Reals phi = static_cast<Real>(two_pi) * Reals(u.phi, aligned);
         if constexpr (LanePhaseSampler<typename M::phase_type, Reals>) {
-            return {this->medium_.phase().cos_psi(Reals(u.psi, aligned)), static_cast<Real>(two_pi) * Reals(u.phi, aligned)};
+            return {this->medium_.phase().cos_psi(Reals(u.psi, aligned)), phi};
+        } else if constexpr (in_floats && LanePhaseSampler<typename M::phase_type, lanes::Reals>) {
+            // A sampler in double lanes only (a table): the float lanes' uniforms in double groups.
+            alignas(64) Real cos_psi[width];
+            for (int g = 0; g < width; g += lanes::lane_width) {
+                const lanes::Reals mu = this->medium_.phase().cos_psi(lanes::Reals([&](int l) { return double(u.psi[g + l]); }));
+                for (int l = 0; l < lanes::lane_width; ++l) cos_psi[g + l] = static_cast<Real>(mu[l]);
+            }
+            return {Reals(cos_psi, aligned), phi};
         } else {
-            alignas(64) Real cos_psi[width], phi[width];
+            alignas(64) Real cos_psi[width], azimuth[width];
             for (int l = 0; l < width; ++l) {
                 const PhaseDirection d = scattering_direction(this->medium_, z[l], u.psi[l], u.phi[l]);
                 cos_psi[l] = static_cast<Real>(d.cos_psi);
-                phi[l] = static_cast<Real>(d.phi);
+                azimuth[l] = static_cast<Real>(d.phi);
             }
-            return {Reals(cos_psi, aligned), Reals(phi, aligned)};
+            return {Reals(cos_psi, aligned), Reals(azimuth, aligned)};
         }
     }
 

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "secchi/core/error.hpp"
+#include "secchi/core/lanes.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
 namespace secchi {
@@ -76,6 +77,20 @@ public:
         while (i + 2 < cum.size() && cum[i + 1] <= target) ++i;
         return i;
     }
+#if SECCHI_HAS_LANES
+    /// find() per lane (photons in lanes), the indices as doubles: the same bucket and the
+    /// same forward scan, a lane's scan ending where its own does.
+    [[nodiscard]] lanes::Reals find(const std::vector<double>& cum, const lanes::Reals& u, const lanes::Reals& target) const {
+        const double g = static_cast<double>(start_.size());
+        const lanes::Reals bucket = lanes::stdx::floor(lanes::stdx::min(lanes::stdx::max(u * g, lanes::Reals(0.0)), lanes::Reals(g - 1.0)));
+        lanes::Reals i = lanes::lookup(start_, bucket);
+        const double last = static_cast<double>(cum.size()) - 2.0;  // i + 2 < cum.size()
+        for (auto more = i < last && lanes::lookup(cum, i + 1.0) <= target; any_of(more);
+             more = i < last && lanes::lookup(cum, i + 1.0) <= target)
+            lanes::stdx::where(more, i) += 1.0;
+        return i;
+    }
+#endif
     /// The reference: min(upper_bound(cum, target) - 1, n - 1), 0 below cum_0.
     static std::size_t upper_bound_index(const std::vector<double>& cum, double target) {
         const auto it = std::upper_bound(cum.begin(), cum.end(), target);
@@ -112,6 +127,10 @@ public:
         require(std::isfinite(raw_) && raw_ > 0.0, "table integral", raw_,
                 "the table has no positive, finite integral under this convention");
         guide_ = detail::CumulativeGuide(cum_);
+        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {  // invert_segment's, per segment (for lanes)
+            width_.push_back(width(i));
+            slope_.push_back((f_[i + 1] - f_[i]) / width(i));
+        }
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -147,6 +166,37 @@ public:
         }
         return {std::cos(psi), two_pi * u2};
     }
+
+#if SECCHI_HAS_LANES
+    /// sample_direction's cos psi for a vector of uniforms u1 (photons in double lanes,
+    /// transport/lane_tracer.hpp). With the trapezoid convention the segment search (the
+    /// guide's scan) and the segment's root run in the vectors, with the same operations as
+    /// sample_direction; lanes in the power law below the first node, and every lane of a
+    /// linear-p table (Newton per segment), go through sample_direction one by one. cos psi
+    /// by sin_cos rather than std::cos: within a few ulp of sample_direction
+    /// (tests/test_lane_tracer.cpp).
+    template <class Lanes>
+        requires std::same_as<Lanes, lanes::Reals>
+    Lanes cos_psi(const Lanes& u1) const {
+        using lanes::Reals, lanes::lookup, lanes::stdx::max, lanes::stdx::min;
+        const Reals target = u1 * raw_;
+        Reals mu(1.0);
+        auto by_lane = [&](int l) { mu[l] = sample_direction(u1[l], 0.0).cos_psi; };
+        if (convention_ != TabulatedConvention::trapezoid) {
+            for (int l = 0; l < lanes::lane_width; ++l) by_lane(l);
+            return mu;
+        }
+        // invert_segment's trapezoid root: f_i d + s d^2 / 2 = m, d = 2 m / (f_i + sqrt(f_i^2 + 2 s m)).
+        const Reals i = guide_.find(cum_, u1, target);
+        const Reals theta = lookup(theta_, i), f = lookup(f_, i), slope = lookup(slope_, i), w = lookup(width_, i);
+        const Reals m = target - lookup(cum_, i);
+        const Reals den = f + lanes::stdx::sqrt(max(Reals(0.0), f * f + 2.0 * slope * m));
+        const Reals d = select(den > 0.0, min(max(2.0 * m / den, Reals(0.0)), w), Reals(0.0));
+        mu = sin_cos(min(theta + d, lookup(theta_, i + 1.0))).cos;
+        lanes::for_each(target < cum_[0], by_lane);  // the power law below the first node
+        return mu;
+    }
+#endif
 
     /// Probability that the scattering angle is below psi (radians), exact.
     double cumulative(double psi) const {
@@ -252,6 +302,7 @@ private:
     double k_;
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
+    std::vector<double> width_, slope_;        // per segment: width, and f's slope (trapezoid)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
 };
