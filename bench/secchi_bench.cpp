@@ -119,6 +119,11 @@ int main(int argc, char** argv) {
         fig["events_per_s_per_core_hg_float_lanes_map_reused"] =
             events_per_second<HenyeyGreensteinPhase, FloatLaneTracer>(hg, 100'000 * scale, repeats, true);
         fig["float_lane_width"] = lanes::width_of<float>;
+        // Petzold in the lanes (the table's sampler in double lanes; float lanes by groups of them).
+        fig["events_per_s_per_core_petzold_lanes"] =
+            events_per_second<TabulatedPhase, LaneTracer>(petzold, 100'000 * scale, repeats);
+        fig["events_per_s_per_core_petzold_float_lanes"] =
+            events_per_second<TabulatedPhase, FloatLaneTracer>(petzold, 100'000 * scale, repeats);
 #endif
 
         // Photons per second for problems 1a, 2a and 2b (sun at 60 deg, n = 1.34, continuous
