@@ -81,9 +81,9 @@ public:
     /// find() per lane (photons in lanes), the indices as doubles: the same bucket and the
     /// same forward scan, a lane's scan ending where its own does.
     [[nodiscard]] lanes::Reals find(const std::vector<double>& cum, const lanes::Reals& u, const lanes::Reals& target) const {
+        using lanes::Reals, lanes::stdx::max, lanes::stdx::min;
         const double g = static_cast<double>(start_.size());
-        const lanes::Reals bucket = lanes::stdx::floor(lanes::stdx::min(lanes::stdx::max(u * g, lanes::Reals(0.0)), lanes::Reals(g - 1.0)));
-        lanes::Reals i = lanes::lookup(start_, bucket);
+        Reals i = lanes::lookup(start_, lanes::stdx::floor(min(max(u * g, Reals(0.0)), Reals(g - 1.0))));
         const double last = static_cast<double>(cum.size()) - 2.0;  // i + 2 < cum.size()
         for (auto more = i < last && lanes::lookup(cum, i + 1.0) <= target; any_of(more);
              more = i < last && lanes::lookup(cum, i + 1.0) <= target)
@@ -121,16 +121,14 @@ public:
             p_.push_back(value.back());
         }
         for (std::size_t i = 0; i < theta_.size(); ++i) f_.push_back(two_pi * p_[i] * detail::sin_angle(theta_[i]));
+        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) slope_.push_back((f_[i + 1] - f_[i]) / width(i));
         cum_.push_back(power_mass(theta_[0]));
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) cum_.push_back(cum_.back() + segment_mass(i, width(i)));
         raw_ = cum_.back();
         require(std::isfinite(raw_) && raw_ > 0.0, "table integral", raw_,
                 "the table has no positive, finite integral under this convention");
         guide_ = detail::CumulativeGuide(cum_);
-        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {  // invert_segment's, per segment (for lanes)
-            width_.push_back(width(i));
-            slope_.push_back((f_[i + 1] - f_[i]) / width(i));
-        }
+        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) width_.push_back(width(i));  // for lanes
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -248,10 +246,7 @@ private:
 
     /// Unnormalised mass in [theta_i, theta_i + d].
     double segment_mass(std::size_t i, double d) const {
-        if (convention_ == TabulatedConvention::trapezoid) {
-            const double slope = (f_[i + 1] - f_[i]) / width(i);
-            return d * (f_[i] + 0.5 * slope * d);
-        }
+        if (convention_ == TabulatedConvention::trapezoid) return d * (f_[i] + 0.5 * slope_[i] * d);
         // int (p_i + t x) sin(theta_i + x) dx over [0, d], written without cancellation:
         // p_i (cos theta_i - cos psi) + t (sin psi (1 - cos d) - cos psi (d - sin d)).
         const double t = (p_[i + 1] - p_[i]) / width(i), psi = theta_[i] + d, sh = std::sin(0.5 * d);
@@ -274,7 +269,7 @@ private:
     double invert_segment(std::size_t i, double m) const {
         if (convention_ == TabulatedConvention::trapezoid) {
             // f_i d + s d^2 / 2 = m, the root without cancellation (also for s <= 0 or f_i = 0).
-            const double s = (f_[i + 1] - f_[i]) / width(i);
+            const double s = slope_[i];
             const double den = f_[i] + std::sqrt(std::max(0.0, f_[i] * f_[i] + 2.0 * s * m));
             return den > 0.0 ? std::clamp(2.0 * m / den, 0.0, width(i)) : 0.0;
         }
@@ -302,7 +297,7 @@ private:
     double k_;
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
-    std::vector<double> width_, slope_;        // per segment: width, and f's slope (trapezoid)
+    std::vector<double> slope_, width_;        // per segment: f's slope (trapezoid), width (for lanes)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
 };
