@@ -128,7 +128,6 @@ public:
         require(std::isfinite(raw_) && raw_ > 0.0, "table integral", raw_,
                 "the table has no positive, finite integral under this convention");
         guide_ = detail::CumulativeGuide(cum_);
-        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) width_.push_back(width(i));  // for lanes
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -186,11 +185,12 @@ public:
         }
         // invert_segment's trapezoid root: f_i d + s d^2 / 2 = m, d = 2 m / (f_i + sqrt(f_i^2 + 2 s m)).
         const Reals i = guide_.find(cum_, u1, target);
-        const Reals theta = lookup(theta_, i), f = lookup(f_, i), slope = lookup(slope_, i), w = lookup(width_, i);
+        const Reals theta = lookup(theta_, i), theta_next = lookup(theta_, i + 1.0);
+        const Reals f = lookup(f_, i), slope = lookup(slope_, i), w = theta_next - theta;  // width(i)
         const Reals m = target - lookup(cum_, i);
         const Reals den = f + lanes::stdx::sqrt(max(Reals(0.0), f * f + 2.0 * slope * m));
         const Reals d = select(den > 0.0, min(max(2.0 * m / den, Reals(0.0)), w), Reals(0.0));
-        mu = sin_cos(min(theta + d, lookup(theta_, i + 1.0))).cos;
+        mu = sin_cos(min(theta + d, theta_next)).cos;
         lanes::for_each(target < cum_[0], by_lane);  // the power law below the first node
         return mu;
     }
@@ -297,7 +297,7 @@ private:
     double k_;
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
-    std::vector<double> slope_, width_;        // per segment: f's slope (trapezoid), width (for lanes)
+    std::vector<double> slope_;                // per segment: f's slope (trapezoid)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
 };
