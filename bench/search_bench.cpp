@@ -13,7 +13,8 @@
 //             (cylinder radius scaled), the octree and then the grid against the k-d tree.
 //  - uniform: search only, 1e6 uniform points in the unit cube, ~50 per sphere (the scale
 //             figures): k-d tree and nanoflann stepping at n = 32 against the VOI cylinder
-//             (octree and grid).
+//             (octree and grid); and Embree 3 collecting every sphere the ray hits, where CMake
+//             found Embree (the optional comparator, embree_spheres.hpp).
 //  - scaling: build and query cost against record count 1e4..1e7 (2a light field prefixes);
 //             --csv writes the rows for plot_scaling.py.
 //  - tune:    on the collect map, the VOI octree's leaf size and the VOI grid's cell shape;
@@ -28,6 +29,9 @@
 #include "secchi/map/voi_octree.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/solver/plane_parallel.hpp"
+#if SECCHI_BENCH_EMBREE
+#include "embree_spheres.hpp"
+#endif
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -166,6 +170,18 @@ std::pair<Timing, double> search_only(int repeats, const Store& store, const Vol
     return {t, static_cast<double>(count) / rays.size()};
 }
 
+#if SECCHI_BENCH_EMBREE
+/// search_only for the Embree comparator: time for the rays and spheres hit per ray.
+std::pair<Timing, double> embree_search(int repeats, const EmbreeSpheres& embree, const std::vector<Ray>& rays) {
+    std::uint64_t count = 0;
+    const Timing t = time_runs(repeats, [&] {
+        count = 0;
+        for (const Ray& ray : rays) count += embree.count_along(ray);
+    });
+    return {t, static_cast<double>(count) / rays.size()};
+}
+#endif
+
 std::string lu_cell(const Estimate& e) { return fmt("%.4e", e.value) + " +- " + fmt("%.1e", e.se); }
 
 /// The rays from the same origins, tilted by the zenith angle theta (degrees) in the x-z plane,
@@ -287,6 +303,23 @@ void suite_collect(const Options& o) {
                    "** [" + fmt("%.3g", paired.lo) + "-" + fmt("%.3g", paired.hi) + "] | " +
                    fmt("%.3g", k_search[i] / cs.first.median) + " | " + fmt("%.3g", os.first.median / cs.first.median) + " |");
     }
+#if SECCHI_BENCH_EMBREE
+    {  // the optional comparator at the n = 32 cylinder's radius (embree_spheres.hpp), search only
+        const double rc = r * std::sqrt(k[2].photons_per_ray / v.photons_per_ray);
+        const VoiGridStore<CompactRecord> grid(map.records, Radius(rc));
+        const EmbreeSpheres embree(grid.records(), rc);
+        const auto es = embree_search(o.repeats, embree, rays);
+        const auto gs = search_only(o.repeats, grid, VoiCylinder{}, rays, rc);
+        out(o, "");
+        out(o, "Search only at r_c = " + fmt("%.4f", rc) + " (equal photons to k-d n = 32): Embree " +
+                   std::to_string(RTC_VERSION_MAJOR) + "." + std::to_string(RTC_VERSION_MINOR) + "." +
+                   std::to_string(RTC_VERSION_PATCH) + " collecting every sphere of radius r_c that the ray hits "
+                   "(the records in the grid's order) counts " + fmt("%.4g", es.second) + " photons per ray at " +
+                   rate_cell(es.first, nr) + " rays/s: " + fmt("%.3g", k_search[2] / es.first.median) +
+                   " times the k-d tree's search at n = 32, and the grid's search " + fmt("%.3g", es.first.median / gs.first.median) +
+                   " times Embree's.");
+    }
+#endif
     out(o, "");
 }
 
@@ -334,6 +367,20 @@ void suite_uniform(const Options& o) {
                fmt("%.4g", gs.second) + " | " + fmt("%.3g", ks.first.median / gs.first.median) + " |");
     out(o, "| VOI grid (cells for r), r = " + fmt("%.4f", r) + " (equal radius) | " + rate_cell(ge.first, nr) + " | " +
                fmt("%.4g", ge.second) + " | " + fmt("%.3g", ks.first.median / ge.first.median) + " |");
+#if SECCHI_BENCH_EMBREE
+    // The optional comparator: spheres of radius r_c and r around the records, in the grid's
+    // cell order (embree_spheres.hpp), every sphere the ray hits counted.
+    for (const auto& [radius, label] : {std::pair{rc, "r_c"}, std::pair{r, "r"}}) {
+        const EmbreeSpheres embree(grid_c.records(), radius);
+        const auto es = embree_search(o.repeats, embree, rays);
+        out(o, "| Embree " + std::to_string(RTC_VERSION_MAJOR) + "." + std::to_string(RTC_VERSION_MINOR) + "." +
+                   std::to_string(RTC_VERSION_PATCH) + ", every sphere of radius " + label + " = " + fmt("%.4f", radius) +
+                   " the ray hits | " + rate_cell(es.first, nr) + " | " + fmt("%.4g", es.second) + " | " +
+                   fmt("%.3g", ks.first.median / es.first.median) + " |");
+    }
+#else
+    out(o, "| Embree 3 (optional comparator) | not built: CMake did not find Embree 3 (Debian: libembree-dev) | | |");
+#endif
     out(o, "");
 }
 
