@@ -82,6 +82,24 @@ inline double pruning_pad(const Ray& ray, double r2) {
     return std::sqrt(r2 + slack2) + (1e-9 + 2.0 * off_unit) * len;
 }
 
+/// A direction component below this is treated as parallel to its axis by the slab tests: it
+/// moves a segment by < 1e-300 t_max along that axis, far inside any pruning pad's margin (and
+/// its inverse would overflow).
+inline constexpr double parallel_below = 1e-300;
+
+/// The slab test along one axis (Kay & Kajiya 1986): the part of the parameter interval
+/// [t0, t1] where origin + t direction lies in [low, high] along that axis, given
+/// inverse_direction = 1 / direction, or `parallel` (|direction| < parallel_below: then all of
+/// [t0, t1] or nothing). Empty: first > second. PaddedSegment (octree, k-d tree, nanoflann
+/// adaptor) and the VOI grid's column walk use it.
+inline std::pair<double, double> clip_to_slab(double origin, double inverse_direction, bool parallel, double low,
+                                              double high, double t0, double t1) {
+    if (parallel) return (origin < low || origin > high) ? std::pair{1.0, 0.0} : std::pair{t0, t1};
+    double ta = (low - origin) * inverse_direction, tb = (high - origin) * inverse_direction;
+    if (ta > tb) std::swap(ta, tb);
+    return {std::max(t0, ta), std::min(t1, tb)};
+}
+
 /// A query segment origin + t direction, t in [0, t_max], prepared once per along() query
 /// for slab tests (Kay & Kajiya 1986) against boxes padded by pruning_pad(ray, r^2): the
 /// manual's "volume of influence" (3.5), with the padding applied at query time.
@@ -94,9 +112,7 @@ public:
         reach_lo_ = glm::min(ray.origin, end) - vec3(pad_);
         reach_hi_ = glm::max(ray.origin, end) + vec3(pad_);
         for (int a = 0; a < 3; ++a) {
-            // A direction component below 1e-300 moves the segment by < 1e-300 t_max along
-            // that axis, far inside the pad's margin: treat it as parallel (no overflow).
-            parallel_[a] = std::abs(ray.direction[a]) < 1e-300;
+            parallel_[a] = std::abs(ray.direction[a]) < parallel_below;
             inv_dir_[a] = parallel_[a] ? 0.0 : 1.0 / ray.direction[a];
         }
     }
@@ -106,20 +122,12 @@ public:
     /// Parameter interval [t0, t1] of the segment inside the box [lo - pad, hi + pad];
     /// empty (t0 > t1) if the segment misses it.
     [[nodiscard]] std::pair<double, double> clip(const vec3& lo, const vec3& hi) const {
-        double t0 = 0.0, t1 = t_max_;
+        std::pair<double, double> t{0.0, t_max_};
         for (int a = 0; a < 3; ++a) {
-            const double low = lo[a] - pad_, high = hi[a] + pad_;
-            if (parallel_[a]) {
-                if (origin_[a] < low || origin_[a] > high) return {1.0, 0.0};
-                continue;
-            }
-            double ta = (low - origin_[a]) * inv_dir_[a], tb = (high - origin_[a]) * inv_dir_[a];
-            if (ta > tb) std::swap(ta, tb);
-            t0 = std::max(t0, ta);
-            t1 = std::min(t1, tb);
-            if (t0 > t1) return {t0, t1};
+            t = clip_to_slab(origin_[a], inv_dir_[a], parallel_[a], lo[a] - pad_, hi[a] + pad_, t.first, t.second);
+            if (t.first > t.second) break;
         }
-        return {t0, t1};
+        return t;
     }
 
     /// Does the segment meet the box [lo - pad, hi + pad]? First the cheap necessary test

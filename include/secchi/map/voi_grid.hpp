@@ -188,13 +188,11 @@ private:
     }
 
     /// The parameter interval within [t0, t1] where the segment's coordinate `axis` lies in
-    /// [low, high] (Kay and Kajiya's slab test); empty (first > second) if none.
+    /// [low, high] (detail::clip_to_slab); empty (first > second) if none.
     static std::pair<double, double> clip(const Ray& ray, int axis, double low, double high, double t0, double t1) {
-        const double o = ray.origin[axis], u = ray.direction[axis];
-        if (std::abs(u) < 1e-300) return (o < low || o > high) ? std::pair{1.0, 0.0} : std::pair{t0, t1};
-        double ta = (low - o) / u, tb = (high - o) / u;
-        if (ta > tb) std::swap(ta, tb);
-        return {std::max(t0, ta), std::min(t1, tb)};
+        const double u = ray.direction[axis];
+        const bool parallel = std::abs(u) < detail::parallel_below;
+        return detail::clip_to_slab(ray.origin[axis], parallel ? 0.0 : 1.0 / u, parallel, low, high, t0, t1);
     }
 
     /// Squared distance in (x, y) between the segment [p0, p1] and the square [lo, hi]: 0 if
