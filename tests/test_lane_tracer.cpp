@@ -222,12 +222,13 @@ TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in l
 
 // Petzold as a table (M93's trapezoid with its power law, and the linear-p convention): the
 // vector search and root against sample_direction, at uniforms spread over (0, 1) and packed
-// into the power law's mass near 0 and the backward tail near 1. The same operations but
-// cos by sin_cos (2 ulp of 1 at most, 2.2e-16 x 2) rather than std::cos.
+// into the power law's mass near 0 (down to u = 0) and the backward tail near 1. The same
+// operations but cos by sin_cos (2 ulp of 1 at most, 2.2e-16 x 2) rather than std::cos; in the
+// power law, pow as exp(log(.) / (2 - k)), which moves cos psi by < 1e-19 (tabulated.hpp).
 TEST_CASE("A tabulated phase function's inverse CDF in lanes is sample_direction's, to cos's rounding") {
     for (const TabulatedPhase& phase : {petzold_m93(), petzold_m93(TabulatedConvention::linear_p)}) {
         std::vector<double> u = uniforms(8192, 9);
-        for (double v : {1e-9, 1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.5, 0.999, 1.0 - 1e-9}) u.push_back(v);
+        for (double v : {0.0, 1e-300, 1e-9, 1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.5, 0.999, 1.0 - 1e-9}) u.push_back(v);
         for (std::size_t k = 0; k < 2048; ++k) u.push_back(0.1 * u[k]);  // the forward peak
         while (u.size() % lane_width) u.push_back(0.25);
         double worst = 0;

@@ -25,6 +25,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -168,9 +169,9 @@ public:
     /// sample_direction's cos psi for a vector of uniforms u1 (photons in double lanes,
     /// transport/lane_tracer.hpp). With the trapezoid convention the segment search (the
     /// guide's scan) and the segment's root run in the vectors, with the same operations as
-    /// sample_direction; lanes in the power law below the first node, and every lane of a
-    /// linear-p table (Newton per segment), go through sample_direction one by one. cos psi
-    /// by sin_cos rather than std::cos: within a few ulp of sample_direction
+    /// sample_direction, and so does the power law below the first node (by log and exp);
+    /// every lane of a linear-p table (Newton per segment) goes through sample_direction one
+    /// by one. cos psi by sin_cos rather than std::cos: within a few ulp of sample_direction
     /// (tests/test_lane_tracer.cpp).
     template <class Lanes>
         requires std::same_as<Lanes, lanes::Reals>
@@ -190,9 +191,19 @@ public:
         const Reals m = target - lookup(cum_, i);
         const Reals den = f + lanes::stdx::sqrt(max(Reals(0.0), f * f + 2.0 * slope * m));
         const Reals d = select(den > 0.0, min(max(2.0 * m / den, Reals(0.0)), w), Reals(0.0));
-        mu = sin_cos(min(theta + d, theta_next)).cos;
-        lanes::for_each(target < cum_[0], by_lane);  // the power law below the first node
-        return mu;
+        Reals psi = min(theta + d, theta_next);
+        if (const auto power = target < cum_[0]; any_of(power)) {
+            // The power law below the first node: psi = theta_0 (target / cum_0)^(1 / (2 - k)), as
+            // theta_0 exp(ln(target / cum_0) / (2 - k)) (lanes::log and lanes::exp, 2 ulp each:
+            // psi within a few tens of ulp of std::pow's wherever cos psi is not 1, and so cos
+            // psi, with psi < 0.002 rad, within 1e-19 of it). The ratio is kept normal and the
+            // exponent above -700: there psi < 1e-300, whose cos is 1, as for std::pow's 0 at
+            // target = 0.
+            const Reals ratio = max(target / cum_[0], Reals(std::numeric_limits<double>::min()));
+            const Reals x = max(lanes::log(ratio) / (2.0 - k_), Reals(-700.0));
+            where(power, psi) = theta_[0] * lanes::exp(x);
+        }
+        return sin_cos(psi).cos;
     }
 #endif
 
