@@ -58,6 +58,12 @@ public:
     EmbreeSpheres(const EmbreeSpheres&) = delete;
     EmbreeSpheres& operator=(const EmbreeSpheres&) = delete;
 
+    /// "Embree 3.13.5": the version this was built with.
+    static std::string version() {
+        return "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." + std::to_string(RTC_VERSION_MINOR) + "." +
+               std::to_string(RTC_VERSION_PATCH);
+    }
+
     /// The number of spheres the segment [origin, origin + t_max direction] hits (see above).
     std::uint64_t count_along(const Ray& ray) const {
         Query q;

@@ -311,9 +311,8 @@ void suite_collect(const Options& o) {
         const auto es = embree_search(o.repeats, embree, rays);
         const auto gs = search_only(o.repeats, grid, VoiCylinder{}, rays, rc);
         out(o, "");
-        out(o, "Search only at r_c = " + fmt("%.4f", rc) + " (equal photons to k-d n = 32): Embree " +
-                   std::to_string(RTC_VERSION_MAJOR) + "." + std::to_string(RTC_VERSION_MINOR) + "." +
-                   std::to_string(RTC_VERSION_PATCH) + " collecting every sphere of radius r_c that the ray hits "
+        out(o, "Search only at r_c = " + fmt("%.4f", rc) + " (equal photons to k-d n = 32): " + EmbreeSpheres::version() +
+                   " collecting every sphere of radius r_c that the ray hits "
                    "(the records in the grid's order) counts " + fmt("%.4g", es.second) + " photons per ray at " +
                    rate_cell(es.first, nr) + " rays/s: " + fmt("%.3g", k_search[2] / es.first.median) +
                    " times the k-d tree's search at n = 32, and the grid's search " + fmt("%.3g", es.first.median / gs.first.median) +
@@ -373,8 +372,7 @@ void suite_uniform(const Options& o) {
     for (const auto& [radius, label] : {std::pair{rc, "r_c"}, std::pair{r, "r"}}) {
         const EmbreeSpheres embree(grid_c.records(), radius);
         const auto es = embree_search(o.repeats, embree, rays);
-        out(o, "| Embree " + std::to_string(RTC_VERSION_MAJOR) + "." + std::to_string(RTC_VERSION_MINOR) + "." +
-                   std::to_string(RTC_VERSION_PATCH) + ", every sphere of radius " + label + " = " + fmt("%.4f", radius) +
+        out(o, "| " + EmbreeSpheres::version() + ", every sphere of radius " + label + " = " + fmt("%.4f", radius) +
                    " the ray hits | " + rate_cell(es.first, nr) + " | " + fmt("%.4g", es.second) + " | " +
                    fmt("%.3g", ks.first.median / es.first.median) + " |");
     }

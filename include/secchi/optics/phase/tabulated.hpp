@@ -177,13 +177,9 @@ public:
         requires std::same_as<Lanes, lanes::Reals>
     Lanes cos_psi(const Lanes& u1) const {
         using lanes::Reals, lanes::lookup, lanes::stdx::max, lanes::stdx::min;
+        if (convention_ != TabulatedConvention::trapezoid)
+            return Reals([&](auto l) { return sample_direction(u1[l], 0.0).cos_psi; });
         const Reals target = u1 * raw_;
-        Reals mu(1.0);
-        auto by_lane = [&](int l) { mu[l] = sample_direction(u1[l], 0.0).cos_psi; };
-        if (convention_ != TabulatedConvention::trapezoid) {
-            for (int l = 0; l < lanes::lane_width; ++l) by_lane(l);
-            return mu;
-        }
         // invert_segment's trapezoid root: f_i d + s d^2 / 2 = m, d = 2 m / (f_i + sqrt(f_i^2 + 2 s m)).
         const Reals i = guide_.find(cum_, u1, target);
         const Reals theta = lookup(theta_, i), theta_next = lookup(theta_, i + 1.0);
