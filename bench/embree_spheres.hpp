@@ -95,7 +95,8 @@ private:
     /// Counts a sphere at its entry hit, or at its exit hit if its entry lies before the ray's
     /// origin: for a hit at t on the sphere with outward normal n, the chord's other end is at
     /// t - 2 r (d . n) / |n| (d: the unit ray direction), so the exit hit t1 counts when
-    /// t1 - 2 r (d . n) / |n| < 0 (the origin inside). No memory beyond the hit is read.
+    /// t1 - 2 r (d . n) / |n| < 0 (the origin inside). Embree hands the filter the hit's t as
+    /// the ray's tfar; no memory beyond the hit is read.
     static void count_and_reject(const RTCFilterFunctionNArguments* args) {
         auto* q = reinterpret_cast<Query*>(args->context);
         for (unsigned i = 0; i < args->N; ++i) {
