@@ -16,9 +16,10 @@
 // that byte alone, so the optics may tabulate their angular part for the 256 possible
 // values of cos psi and look it up per photon, skipping the direction decode, the dot product
 // and the phase function's interpolation. The values are the same on every ray of one
-// direction (+z or -z): estimate() builds each direction's table once for all its rays,
-// accumulate() once per call (a few microseconds, against thousands of photons per ray). The
-// result is bit-identical to the per-photon formula (see detail::vertical_cosines for why);
+// direction (+z or -z): the estimator builds the two directions' tables once, when it is
+// constructed (a few microseconds), and every estimate() and accumulate() call looks them up.
+// (Built per accumulate() call instead, they made a short ray of ~60 photons 4 times as slow:
+// BENCHMARKS.md, fourteenth session.) The result is bit-identical to the per-photon formula (see detail::vertical_cosines for why);
 // optics without the tabulated form, other records and other rays take the per-photon formula.
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
@@ -33,7 +34,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <optional>
+#include <memory>
 #include <ranges>
 #include <span>
 #include <string>
@@ -70,6 +71,17 @@ concept CodedRayOptics = RayOptics<O> && requires(const O o, const CodedCosines&
 };
 
 namespace detail {
+/// The coded optics of the two vertical directions (+z, -z) for optics O with the tabulated
+/// form (Coded: CodedRayOptics and compact records), else nothing.
+template <class O, bool Coded>
+struct VerticalTablesOf {
+    using type = std::nullptr_t;
+};
+template <class O>
+struct VerticalTablesOf<O, true> {
+    using type = std::array<decltype(std::declval<const O&>().for_cosines(std::declval<const CodedCosines&>())), 2>;
+};
+
 /// cos psi = -dot(d, u) of a photon of polar code k on a vertical ray u = (0, 0, uz), uz = +-1,
 /// for each k: -(cos_theta_k uz). It equals the per-photon formula bit for bit, whatever the
 /// photon's azimuth: GLM's dot for dvec3 is (dx ux + dy uy) + dz uz. With ux, uy = +-0 and
@@ -197,8 +209,8 @@ class PathRadianceEstimator {
 public:
     PathRadianceEstimator(const Store& store, Volume volume, Optics optics, double flux_per_photon, unsigned batches,
                           Radius radius)
-        : store_(store), volume_(std::move(volume)), optics_(std::move(optics)), flux_(flux_per_photon),
-          batches_(batches), radius_(radius) {
+        : store_(store), volume_(std::move(volume)), optics_(std::make_shared<const Optics>(std::move(optics))),
+          tables_(vertical_tables()), flux_(flux_per_photon), batches_(batches), radius_(radius) {
         require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
         // Every photon's batch must have its sum: a batch index >= batches would be summed
         // outside batch_sums (once per store, O(N), far below the store's own build).
@@ -217,8 +229,7 @@ public:
     std::uint64_t accumulate(const Ray& ray, std::span<double> batch_sums) const {
         require(batch_sums.size() >= batches_, "batch_sums size", batch_sums.size(),
                 "must hold one sum per batch (the estimator's batches)");
-        if constexpr (coded_rays) return accumulate_ray(ray, batch_sums, vertical_tables(std::span(&ray, 1)));
-        else return accumulate_ray(ray, batch_sums, nullptr);
+        return accumulate_ray(ray, batch_sums);
     }
 
     /// Radiance averaged over a set of rays (e.g. a grid of parallel rays in a horizontally
@@ -227,17 +238,13 @@ public:
     RadianceEstimate estimate(const std::vector<Ray>& rays, unsigned threads) const {
         std::vector<std::vector<double>> per_ray(rays.size(), std::vector<double>(batches_, 0.0));
         std::vector<std::uint64_t> touched(rays.size(), 0);
-        auto sum_rays = [&](const auto& tables) {
-            parallel_for(rays.size(), threads, [&](std::size_t i) {
-                // Sums on this thread's stack, copied out once: the rays' own vectors may share
-                // a cache line with a neighbour's that another thread is adding to.
-                std::array<double, max_batches> sums{};
-                touched[i] = accumulate_ray(rays[i], std::span(sums.data(), batches_), tables);
-                std::copy_n(sums.begin(), batches_, per_ray[i].begin());
-            });
-        };
-        if constexpr (coded_rays) sum_rays(vertical_tables(rays));
-        else sum_rays(nullptr);
+        parallel_for(rays.size(), threads, [&](std::size_t i) {
+            // Sums on this thread's stack, copied out once: the rays' own vectors may share
+            // a cache line with a neighbour's that another thread is adding to.
+            std::array<double, max_batches> sums{};
+            touched[i] = accumulate_ray(rays[i], std::span(sums.data(), batches_));
+            std::copy_n(sums.begin(), batches_, per_ray[i].begin());
+        });
         std::vector<double> batch(batches_, 0.0);
         RadianceEstimate out;
         for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -258,32 +265,28 @@ private:
     /// tabulate their angular part.
     static constexpr bool coded_rays = PolarCodedRecord<Record> && CodedRayOptics<Optics>;
 
-    /// The coded optics of the vertical directions among `rays`: [0] for +z, [1] for -z, each
-    /// built if some ray has that direction. cos psi takes the same 256 values on every ray
-    /// of one direction (vertical_cosines), so one table serves them all (a table costs
-    /// a few microseconds: 256 phase lookups scattered over the phase table).
-    auto vertical_tables(std::span<const Ray> rays) const
-        requires coded_rays
-    {
-        using Coded = decltype(optics_.for_cosines(std::declval<const CodedCosines&>()));
-        std::array<std::optional<Coded>, 2> tables;
-        for (const Ray& ray : rays) {
-            if (!is_vertical(ray)) continue;
-            auto& table = tables[ray.direction.z > 0.0 ? 0 : 1];
-            if (!table) table.emplace(optics_.for_cosines(detail::vertical_cosines<Record>(ray.direction.z)));
-        }
-        return tables;
+    /// The coded optics of the two vertical directions, [0] for +z and [1] for -z (coded_rays;
+    /// else nothing). cos psi takes the same 256 values on every ray of one direction
+    /// (vertical_cosines), so one table serves them all (a table costs a few microseconds: 256
+    /// phase lookups scattered over the phase table). They refer to *optics_, which they share.
+    using VerticalTables = typename detail::VerticalTablesOf<Optics, coded_rays>::type;
+    [[nodiscard]] std::shared_ptr<const VerticalTables> vertical_tables() const {
+        if constexpr (coded_rays)
+            return std::make_shared<const VerticalTables>(
+                VerticalTables{optics_->for_cosines(detail::vertical_cosines<Record>(1.0)),
+                               optics_->for_cosines(detail::vertical_cosines<Record>(-1.0))});
+        else
+            return nullptr;
     }
 
-    /// accumulate() for one ray, with the vertical directions' tables (vertical_tables, or
-    /// nullptr without the coded path): the coded sum on a vertical ray, else the per-photon one.
-    template <class Tables>
-    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums, const Tables& tables) const {
+    /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays), else the
+    /// per-photon one.
+    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums) const {
         if constexpr (coded_rays)
-            if (is_vertical(ray)) return accumulate_coded(ray, batch_sums, *tables[ray.direction.z > 0.0 ? 0 : 1]);
+            if (is_vertical(ray)) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
         return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
             const double cos_psi = -glm::dot(rec.direction(), ray.direction);
-            return optics_.in_scatter(rec.position().z, cos_psi, ray, t);
+            return optics_->in_scatter(rec.position().z, cos_psi, ray, t);
         });
     }
 
@@ -358,7 +361,9 @@ private:
 
     const Store& store_;
     Volume volume_;
-    Optics optics_;
+    /// On the heap, so that the tables' references to it hold in every copy of the estimator.
+    std::shared_ptr<const Optics> optics_;
+    std::shared_ptr<const VerticalTables> tables_;  ///< vertical_tables(), built once
     double flux_;
     unsigned batches_;
     Radius radius_;
