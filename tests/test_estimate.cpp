@@ -5,6 +5,7 @@
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/solver/plane_parallel.hpp"
+#include <array>
 #include <atomic>
 #include <memory>
 #include <optional>
@@ -17,6 +18,77 @@ TEST_CASE("Sphere volume inside the water: caps cut by the surface and the botto
     CHECK(sphere_volume_in_slab(0.0, r, 0.0, INFINITY) == Approx(full / 2));
     CHECK(sphere_volume_in_slab(5.0, r, 0.0, 5.0) == Approx(full / 2));
     CHECK(sphere_volume_in_slab(0.05, r, 0.0, INFINITY) == Approx(full - pi * 0.05 * 0.05 * (0.3 - 0.05) / 3));
+}
+
+TEST_CASE("Disk area inside the water: circle segments cut by the surface and the bottom") {
+    const double r = 0.05, full = pi * r * r;
+    CHECK(disk_segment_area(0.0, r) == Approx(full / 2));
+    CHECK(disk_segment_area(r, r) == 0.0);
+    CHECK(disk_segment_area(-r, r) == Approx(full));
+    CHECK(disk_area_in_slab(0.0, 1.0, r, 0.0, INFINITY) == full);   // vertical ray: horizontal disk
+    CHECK(disk_area_in_slab(0.0, 0.0, r, 0.0, INFINITY) == Approx(full / 2));  // horizontal ray at the surface
+    CHECK(disk_area_in_slab(1.0, 0.3, r, 0.0, 2.0) == full);
+    // Against the disk itself: a polar grid over the disk perpendicular to the ray, counting
+    // the area whose depth lies between the planes (no use of the chord argument).
+    for (const auto& [zc, uz, top, bottom] : std::vector<std::array<double, 4>>{
+             {0.01, 0.3, 0.0, INFINITY}, {0.03, -0.6, 0.0, 0.07}, {0.5, 0.05, 0.0, 0.52}, {-0.01, 0.2, 0.0, 1.0}}) {
+        const vec3 u(std::sqrt(1.0 - uz * uz), 0.0, uz);
+        const vec3 e1 = glm::normalize(glm::cross(u, vec3(0.0, 1.0, 0.0))), e2 = glm::cross(u, e1);
+        const int rings = 1000, spokes = 2000;
+        double inside = 0.0;
+        for (int i = 0; i < rings; ++i) {
+            const double rho = (i + 0.5) * r / rings;
+            for (int j = 0; j < spokes; ++j) {
+                const double phi = (j + 0.5) * 2.0 * pi / spokes;
+                const double z = zc + rho * (std::cos(phi) * e1.z + std::sin(phi) * e2.z);
+                if (z >= top && z <= bottom) inside += rho * (r / rings) * (2.0 * pi / spokes);
+            }
+        }
+        INFO("zc " << zc << " uz " << uz << " top " << top << " bottom " << bottom);
+        CHECK(disk_area_in_slab(zc, uz, r, top, bottom) == Approx(inside).epsilon(2e-3));
+    }
+}
+
+TEST_CASE("The VOI cylinder compensates the water's top and bottom on slanted rays (manual 3.5.1)") {
+    // Photons uniform in a slab of water 0.5 m deep (density rho per m^3), isotropic phase, no
+    // attenuation: every in-water cylinder gathers rho * (cross-section) photons per metre, so
+    // with weights 1 / (in-water cross-section) each ray's sum is rho L / (4 pi), wherever it
+    // runs. Rays at 85 degrees from the vertical, 1 cm below the surface or above the bottom,
+    // have a quarter or more of their cylinder out of the water; uncompensated (weights
+    // 1 / (pi r^2)) they come out low by about that.
+    const double depth = 0.5, length = 0.6;
+    const std::size_t n = 200000;
+    const unsigned batches = 10;
+    PhotonRng rng(2024, 0);
+    std::vector<CompactRecord> records;
+    for (std::size_t i = 0; i < n; ++i)
+        records.push_back(CompactRecord::make(vec3(rng.uniform(), rng.uniform(), depth * rng.uniform()), vec3(0.0, 0.0, 1.0),
+                                              0, static_cast<std::uint8_t>(i % batches)));
+    const double rho = static_cast<double>(n) / depth;
+    const double expected = rho * length / (4.0 * pi);
+    const double s = std::sin(85.0 * pi / 180.0), c = std::cos(85.0 * pi / 180.0);
+    std::vector<Ray> near_top, near_bottom;
+    for (const double y : {0.2, 0.35, 0.5, 0.65, 0.8}) {
+        near_top.push_back({vec3(0.15, y, 0.01), vec3(s, 0.0, c), length});
+        near_bottom.push_back({vec3(0.15, y, depth - 0.01), vec3(s, 0.0, -c), length});
+    }
+    const VoiOctreeStore<CompactRecord> store(records);
+    const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), 0.0);
+    const Radius r(0.05);
+    const PathRadianceEstimator compensated(store, VoiCylinder(0.0, depth), optics, 1.0, batches, r);
+    const PathRadianceEstimator uncompensated(store, VoiCylinder(-INFINITY, INFINITY), optics, 1.0, batches, r);
+    for (const auto* rays : {&near_top, &near_bottom}) {
+        const auto with = compensated.estimate(*rays, 2).radiance;
+        const auto without = uncompensated.estimate(*rays, 2).radiance;
+        INFO("expected " << expected << ", compensated " << with.value << " +- " << with.se << ", uncompensated "
+                         << without.value << " +- " << without.se);
+        CHECK(with.se < 0.03 * expected);
+        CHECK(std::abs(with.value - expected) <= 4.0 * with.se);
+        CHECK(expected - without.value > 4.0 * without.se);
+    }
+    // Vertical rays are never compensated: their disks are horizontal.
+    const std::vector<Ray> vertical{{vec3(0.5, 0.5, 0.0), vec3(0.0, 0.0, 1.0), depth}};
+    CHECK(compensated.estimate(vertical, 1).radiance.value == uncompensated.estimate(vertical, 1).radiance.value);
 }
 
 namespace {

@@ -7,6 +7,12 @@
 //    volume inside the water (boundary bias compensation, manual 3.5.1).
 //  - VoiCylinder: one `along` search of the cylinder of radius r around the whole segment
 //    (manual 3.5, eq. 3.21-3.22): photon weight 1 / (pi r^2), independent of segmentation.
+//    Where the cylinder crosses the water's top or bottom plane (a slanted ray near either),
+//    a photon's weight is 1 / (the cylinder's cross-section inside the water at the photon's
+//    distance t along the ray): the disk minus the circle segments beyond the planes (boundary
+//    bias compensation, manual 3.5.1). A vertical ray's cross-section is horizontal, never cut.
+//    The segment is meant to lie in the water; where a photon's point on the axis does not, the
+//    cross-section is taken at the plane it has crossed (half the disk or more).
 // Each calls visit(record index, distance along the ray, weight); VoiCylinder passes the
 // stores' runs of hits whole to a visitor that takes them (ChunkVisitor).
 #include "secchi/map/brute_force.hpp"
@@ -50,6 +56,26 @@ inline double sphere_volume_in_slab(double zc, double r, double top, double bott
     return full - cap(top - (zc - r)) - cap((zc + r) - bottom);
 }
 
+/// Area of the part of a disk of radius r beyond a chord at signed distance h from its centre:
+/// r^2 acos(h / r) - h sqrt(r^2 - h^2) (the circle segment; h >= r: none, h <= -r: the disk).
+inline double disk_segment_area(double h, double r) {
+    const double x = std::clamp(h / r, -1.0, 1.0);
+    return r * r * (std::acos(x) - x * std::sqrt(1.0 - x * x));
+}
+
+/// The area inside the water (depths between top and bottom) of a disk of radius r centred at
+/// depth zc, perpendicular to a ray whose direction has vertical component uz: the cylinder's
+/// cross-section there (manual 3.5.1). Across the disk the depth changes by at most
+/// sin(theta) = sqrt(1 - uz^2) per metre, so a plane at depth d cuts it along a chord at
+/// distance (zc - d) / sin(theta) from its centre, on the side towards d. The two planes' segments
+/// never overlap (top < bottom). A horizontal disk (uz = +-1) is not cut: the whole disk.
+inline double disk_area_in_slab(double zc, double uz, double r, double top, double bottom) {
+    const double full = pi * r * r;
+    const double sin_theta = std::sqrt(std::max(0.0, 1.0 - uz * uz));
+    if (sin_theta == 0.0) return full;
+    return full - disk_segment_area((zc - top) / sin_theta, r) - disk_segment_area((bottom - zc) / sin_theta, r);
+}
+
 class StepSpheres {
 public:
     explicit StepSpheres(unsigned steps, double water_top = 0.0, double water_bottom = INFINITY)
@@ -81,10 +107,27 @@ private:
 
 class VoiCylinder {
 public:
+    /// The water lies between depths water_top and water_bottom (as StepSpheres).
+    explicit VoiCylinder(double water_top = 0.0, double water_bottom = INFINITY) : top_(water_top), bottom_(water_bottom) {
+        require(!std::isnan(water_top) && !std::isnan(water_bottom) && water_top < water_bottom, "water_bottom",
+                water_bottom, "must lie below water_top (" + std::to_string(water_top) + ")");
+    }
     [[nodiscard]] std::string name() const { return "voi-cylinder"; }
 
     template <class Store, class Visit>
     void gather(const Store& store, const Ray& ray, Radius r, Visit&& visit) const {
+        if (reaches_boundary(ray, r.value())) {
+            auto collect = [&](const Hit& h) {
+                // The cross-section at the photon's point on the axis, taken at the plane where
+                // that point lies beyond it (a segment that leaves the water): at least half
+                // the disk, so no weight grows without bound.
+                const double zc = std::clamp(ray.origin.z + h.t * ray.direction.z, top_, bottom_);
+                visit(h.index, h.t, 1.0 / disk_area_in_slab(zc, ray.direction.z, r.value(), top_, bottom_));
+                return true;
+            };
+            store.along(ray, r, collect);
+            return;
+        }
         const double weight = 1.0 / (pi * r.squared());
         if constexpr (ChunkVisitor<Visit>) {
             Chunks<std::remove_reference_t<Visit>> collect{visit, weight};
@@ -99,6 +142,16 @@ public:
     }
 
 private:
+    /// Whether the cylinder's cross-section is cut by the top or bottom plane somewhere along
+    /// the segment: the disks reach r sin(theta) above and below the segment's depths.
+    [[nodiscard]] bool reaches_boundary(const Ray& ray, double r) const {
+        const double uz = ray.direction.z;
+        const double reach = r * std::sqrt(std::max(0.0, 1.0 - uz * uz));
+        if (reach == 0.0) return false;  // vertical: horizontal disks, never cut
+        const double z0 = ray.origin.z, z1 = ray.origin.z + ray.t_max * uz;
+        return std::min(z0, z1) - reach < top_ || std::max(z0, z1) + reach > bottom_;
+    }
+
     /// The collector for a visitor that takes runs of photons (ChunkVisitor): the store's
     /// chunks of hits pass through whole.
     template <class Visit>
@@ -114,6 +167,8 @@ private:
             return true;
         }
     };
+
+    double top_, bottom_;
 };
 
 }  // namespace secchi

@@ -176,6 +176,7 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
 
     if (tr.map_photons > 0) {
         const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth);
+        const VoiCylinder cylinder(0.0, cfg.bottom.depth);
         auto run = [&](const auto& store, const auto& volume) {
             out.store_bytes = store.memory_bytes();
             out.seconds_build = detail::seconds_since(t0) - out.seconds_transport;
@@ -184,11 +185,11 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
         switch (cfg.store) {
             case StoreKind::kdtree: run(KdTreeStore<Record>(std::move(tr.records)), spheres); break;
             case StoreKind::nanoflann: run(NanoflannStore<Record>(std::move(tr.records)), spheres); break;
-            case StoreKind::voi: run(VoiOctreeStore<Record>(std::move(tr.records)), VoiCylinder{}); break;
+            case StoreKind::voi: run(VoiOctreeStore<Record>(std::move(tr.records)), cylinder); break;
             case StoreKind::voi_grid:
-                run(VoiGridStore<Record>(std::move(tr.records), Radius(cfg.radius)), VoiCylinder{});
+                run(VoiGridStore<Record>(std::move(tr.records), Radius(cfg.radius)), cylinder);
                 break;
-            case StoreKind::brute_force: run(BruteForceStore<Record>(std::move(tr.records)), VoiCylinder{}); break;
+            case StoreKind::brute_force: run(BruteForceStore<Record>(std::move(tr.records)), cylinder); break;
         }
         out.seconds_collect = detail::seconds_since(t0) - out.seconds_transport - out.seconds_build;
     }
