@@ -29,14 +29,16 @@ namespace {
 using namespace secchi;
 
 constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|all|LIST [--photons N] --store kdtree|voi|voi-grid --seed S
-                 --threads T --json FILE [--exr FILE] [--quick] [--material FILE] [--profile-csv FILE]
+                 --threads T --json FILE [--exr FILE] [--quick] [--material FILE [--material-entry ID|NAME]]
+                 [--profile-csv FILE]
                  [--tracer photon|lanes|lanes-float]
 Runs Mobley et al. 1993 problems 1, 2 and 3 (sun at 60 deg, flat surface n = 1.34, black sky,
 infinitely deep water; problems 1 and 2 with c = 1 /m, problem 3 stratified at 500 nm) and
 scores them against M93 Table 5. Problem 3's medium is composed at compile time
 (conformance/problem3.hpp), or read from a material file with --material (e.g.
-examples/materials/canonical_problem3.mat); its IOP profile (z, a, b, c, w0 every metre
-to 60 m) goes to --profile-csv (default iop_profile_3.csv beside the JSON); its depth
+examples/materials/canonical_problem3.mat; in a DIRSIG file of MATERIAL_ENTRY sections, the
+entry --material-entry names by ID or NAME, by default the only one with BULK_PROPERTIES);
+its IOP profile (z, a, b, c, w0 every metre to 60 m) goes to --profile-csv (default iop_profile_3.csv beside the JSON); its depth
 importance splits photons each time tau_a grows by mu_i ln 2, mu_i = --importance-cosine
 (default 0.6; 0 turns it off). Without --photons each
 problem uses its default budget (see the table printed at the start). --exr (default
@@ -201,8 +203,10 @@ Estimate quantity_of(const DepthResult& d, std::string_view q) {
 StratifiedWater<AnyPhaseFunction> problem3_water(const CommandLine& cl) {
     const auto depths = iop::uniform_depths(100.0, 0.05);
     const double wl = conformance::problem3_wavelength_nm;
+    if (cl.has("material-entry") && !cl.has("material"))
+        reject("--material-entry", cl.text("material-entry"), "selects an entry of --material FILE, which is missing");
     if (cl.has("material"))
-        return iop::stratify(io::read_iop_model(cl.text("material"), cl.count("seed", 1)), wl, depths);
+        return iop::stratify(io::read_iop_model(cl.text("material"), cl.count("seed", 1), cl.text("material-entry")), wl, depths);
     const std::string name = cl.text("petzold", "petzold");
     const AnyPhase particle = parse_phase(name);
     if (!std::holds_alternative<TabulatedPhase>(particle))
@@ -265,7 +269,7 @@ std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool
 int main(int argc, char** argv) {
     return run_program(argc, argv, "canonical", usage, [&] {
         const CommandLine cl(argc, argv,
-                             {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material",
+                             {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material", "material-entry",
                               "profile-csv", "importance-cosine", "tracer"},
                              {"quick"});
         // One problem, all of them, or a comma-separated list (e.g. 1a,1b,2a,2b).

@@ -24,11 +24,14 @@
 
 namespace {
 
-constexpr const char* usage = R"(usage: iop_profile (--material FILE | --problem3) [--wavelengths 400:700:10]
+constexpr const char* usage = R"(usage: iop_profile (--material FILE [--material-entry ID|NAME] | --problem3) [--wavelengths 400:700:10]
                    [--depths 0:60:5] [--seed S] [--out FILE]
 Prints the medium's IOPs as CSV: wavelength_nm, depth_m, a_per_m, b_per_m, c_per_m,
 bb_over_b, mean_cosine (of the mixture phase function; nan where b = 0).
-  --material FILE     a DIRSIG material file (BULK_PROPERTIES { IOP_MODEL { ... } })
+  --material FILE     a DIRSIG material file (BULK_PROPERTIES { IOP_MODEL { ... } }, alone or
+                      inside MATERIAL_ENTRY sections)
+  --material-entry E  the MATERIAL_ENTRY to read, by ID or NAME (default: the only one with
+                      BULK_PROPERTIES)
   --problem3          the composed medium of canonical problem 3 (M93, defined at 500 nm)
   --wavelengths R     nm, as START:STOP:STEP or one value (default 400:700:10)
   --depths R          m, as START:STOP:STEP or one value (default 0:60:5)
@@ -105,10 +108,12 @@ void write_csv(std::ostream& os, const Model& m, const std::vector<double>& wave
 void run(const secchi::CommandLine& cl, std::ostream& os) {
     if (cl.has("material") == cl.has("problem3"))
         secchi::reject("medium", "(options)", "give exactly one of --material FILE and --problem3");
+    if (cl.has("material-entry") && !cl.has("material"))
+        secchi::reject("--material-entry", cl.text("material-entry"), "selects an entry of --material FILE, which is missing");
     const auto wavelengths = parse_range("wavelengths", cl.text("wavelengths", "400:700:10"));
     const auto depths = parse_range("depths", cl.text("depths", "0:60:5"));
     if (cl.has("problem3")) return write_csv(os, secchi::conformance::problem3_model(), wavelengths, depths);
-    const auto model = secchi::io::read_iop_model(cl.text("material"), cl.count("seed", 1));
+    const auto model = secchi::io::read_iop_model(cl.text("material"), cl.count("seed", 1), cl.text("material-entry"));
     write_csv(os, model, wavelengths, depths);
 }
 
@@ -116,7 +121,7 @@ void run(const secchi::CommandLine& cl, std::ostream& os) {
 
 int main(int argc, char** argv) {
     return secchi::run_program(argc, argv, "iop_profile", usage, [&] {
-        const secchi::CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "seed", "out"}, {"problem3"});
+        const secchi::CommandLine cl(argc, argv, {"material", "material-entry", "wavelengths", "depths", "seed", "out"}, {"problem3"});
         std::ostringstream csv;  // the whole table first: an error midway leaves no partial output
         run(cl, csv);
         if (!cl.has("out")) {

@@ -1,7 +1,7 @@
 // Natural water in a few lines: a Case-1 water column composed at compile time from the
 // manual's chapter-5 models, or read from a DIRSIG material file, sampled at one wavelength
 // into the transport's depth profile, and solved (both passes) for Ed, Eou and Lu.
-//   natural_water [MATERIAL_FILE]      (default: the composed medium below)
+//   natural_water [MATERIAL_FILE [ENTRY]]      (default: the composed medium below)
 #include <secchi/io/cli.hpp>
 #include <secchi/io/material_medium.hpp>
 #include <secchi/optics/iop/absorption.hpp>
@@ -10,10 +10,12 @@
 #include <cstdio>
 
 namespace {
-constexpr const char* usage = R"(usage: natural_water [MATERIAL_FILE]
+constexpr const char* usage = R"(usage: natural_water [MATERIAL_FILE [ENTRY]]
 Solves a Case-1 water column at 490 nm (sun at 60 deg, flat surface, black sky, infinitely
 deep) for Ed, Eou and Lu at 1, 5, 10 and 20 m: the medium composed in this file, or the
-IOP_MODEL of MATERIAL_FILE (DIRSIG material-file syntax, e.g. examples/materials/*.mat).
+IOP_MODEL of MATERIAL_FILE (DIRSIG material-file syntax, e.g. examples/materials/*.mat; in a
+file of MATERIAL_ENTRY sections, the entry whose ID or NAME is ENTRY, by default the only one
+with BULK_PROPERTIES).
 )";
 }  // namespace
 
@@ -29,7 +31,8 @@ int main(int argc, char** argv) {
             std::tuple{iop::Scatterer{iop::BuiteveldScattering(), pure_water_phase()},
                        iop::Scatterer{iop::GordonMorelScattering(chl), petzold_m93()}});
         // Run time: the same kind of medium from a material file.
-        const auto water = argc > 1 ? iop::stratify(io::read_iop_model(argv[1]), wavelength, depths)
+        const auto water = argc > 1 ? iop::stratify(io::read_iop_model(argv[1], 1, argc > 2 ? argv[2] : ""),
+                                                    wavelength, depths)
                                     : iop::stratify(model, wavelength, depths);
 
         PlaneParallelConfig cfg;  // sun at 60 deg, flat surface, black sky, infinitely deep

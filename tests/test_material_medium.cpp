@@ -286,6 +286,37 @@ TEST_CASE("material medium: structural errors name file:line") {
     }
 }
 
+TEST_CASE("material medium: DIRSIG MATERIAL_ENTRY files: the entry by ID or NAME, or the only one with BULK_PROPERTIES") {
+    const std::string bulk = "  BULK_PROPERTIES {\n    IOP_MODEL {\n      BASE_MEDIUM = purewater\n"
+                             "      ADD_ABSORPTION_MODEL {\n        TYPE = constant\n        ABS = 0.25\n      }\n"
+                             "    }\n  }\n";
+    const std::string sand = "MATERIAL_ENTRY {\n  ID = 1\n  NAME = Sand\n  EDITOR_COLOR = 0.8, 0.7, 0.5\n"
+                             "  SURFACE_PROPERTIES {\n    REFLECTANCE_PROP_NAME = LambertianReflectance\n  }\n}\n";
+    const std::string lake = "MATERIAL_ENTRY {\n  ID = 2\n  NAME = Lake\n  SURFACE_PROPERTIES {\n  }\n" + bulk + "}\n";
+    const std::string file = "DIRSIG_MAT = 1.0\n\n" + sand + lake;
+    const auto bare = bind_text("bare.mat", bulk);  // the same BULK_PROPERTIES, alone
+    const double a_bare = bare.absorption(at_depth(1.0), 500.0);
+    for (const std::string material : {"", "2", "Lake"}) {
+        INFO("material '" << material << "'");
+        const auto m = read_iop_model(write_material("entries.mat", file), 1, material);
+        CHECK(m.absorption(at_depth(1.0), 500.0) == a_bare);
+        CHECK(m.absorption(at_depth(1.0), 500.0) > 0.25);
+    }
+    const auto path = write_material("entries.mat", file);
+    // The Sand entry has no BULK_PROPERTIES: the error points at its last line (8).
+    CHECK_THROWS_WITH(read_iop_model(path, 1, "Sand"),
+                      Contains("MATERIAL_ENTRY needs exactly one") && Contains(where("entries.mat", 8)));
+    CHECK_THROWS_WITH(read_iop_model(path, 1, "Ocean"),
+                      Contains("material = Ocean") && Contains("ID 1 (NAME = Sand)") && Contains("ID 2 (NAME = Lake)"));
+    const auto two = write_material("two_entries.mat", lake + lake);
+    CHECK_THROWS_WITH(read_iop_model(two), Contains("several MATERIAL_ENTRY") && Contains(where("two_entries.mat", 16)));
+    CHECK_THROWS_WITH(read_iop_model(two, 1, "2"), Contains("more than one MATERIAL_ENTRY"));
+    CHECK_THROWS_WITH(read_iop_model(write_material("plain.mat", bulk), 1, "Lake"),
+                      Contains("material = Lake") && Contains("has none"));
+    CHECK_THROWS_WITH(read_iop_model(write_material("both.mat", bulk + lake)),
+                      Contains("BULK_PROPERTIES") && Contains("put it inside its entry") && Contains(where("both.mat", 1)));
+}
+
 // ---------------------------------------------------------------------------------------------
 // EXCLUSIVE, the default phase function, SIGMA.
 

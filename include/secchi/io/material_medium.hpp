@@ -3,8 +3,8 @@
 // bound to secchi's model types, as an iop::RuntimeIopModel (type-erased, used only to
 // sample the depth profile; the transport runs on the resulting StratifiedWater).
 //
-//   BULK_PROPERTIES {
-//     IOP_MODEL {
+//   BULK_PROPERTIES {            (alone, as in the manual, or inside a DIRSIG MATERIAL_ENTRY {
+//     IOP_MODEL {                 ID = ... NAME = ... }: bind_iop_model below)
 //       BASE_MEDIUM = null | air | purewater | sbpurewater | pspurewater      (5.3)
 //       ADD_CONCENTRATION_MODEL  { TYPE = constant | linear | gaussian ... }   (5.10)
 //       ADD_ABSORPTION_MODEL     { TYPE = constant | specific | morelconc | morelcovar | raman
@@ -361,12 +361,15 @@ inline int last_line(const MaterialSection& s) {
 }
 }  // namespace detail
 
-/// The IOP_MODEL of a parsed material file (root = parse_material's result).
-inline iop::RuntimeIopModel bind_iop_model(const MaterialSection& root, std::uint64_t seed = 1) {
-    const auto bulk = root.all("BULK_PROPERTIES");
-    if (bulk.size() != 1)  // the second one's place, or the file's end when there is none
-        reject("BULK_PROPERTIES sections", bulk.size(), "a material file needs exactly one",
-               bulk.empty() ? root.loc.file + ":" + std::to_string(detail::last_line(root)) : bulk[1]->loc.where());
+namespace detail {
+/// The IOP_MODEL of the one BULK_PROPERTIES section in `holder` (the file's top level, or a
+/// MATERIAL_ENTRY).
+inline iop::RuntimeIopModel bind_bulk(const MaterialSection& holder, std::uint64_t seed) {
+    const auto bulk = holder.all("BULK_PROPERTIES");
+    if (bulk.size() != 1)  // the second one's place, or the holder's end when there is none
+        reject("BULK_PROPERTIES sections", bulk.size(),
+               holder.name.empty() ? "a material file needs exactly one" : "a MATERIAL_ENTRY needs exactly one",
+               bulk.empty() ? holder.loc.file + ":" + std::to_string(last_line(holder)) : bulk[1]->loc.where());
     const auto models = bulk[0]->all("IOP_MODEL");
     if (models.size() != 1)
         reject("IOP_MODEL sections", models.size(), "BULK_PROPERTIES needs exactly one",
@@ -374,12 +377,73 @@ inline iop::RuntimeIopModel bind_iop_model(const MaterialSection& root, std::uin
     for (const auto& sub : bulk[0]->sections)
         if (sub.name != "IOP_MODEL") reject("section", sub.name, "unknown section in BULK_PROPERTIES", sub.loc.where());
     ParameterReader(*bulk[0]).finish();  // BULK_PROPERTIES takes no parameters of its own
-    return detail::MaterialBinder(seed).bind(*models[0]);
+    return MaterialBinder(seed).bind(*models[0]);
 }
 
-/// Reads and binds a material file.
-inline iop::RuntimeIopModel read_iop_model(const std::filesystem::path& path, std::uint64_t seed = 1) {
-    return bind_iop_model(read_material_file(path), seed);
+/// "ID 1 (NAME = Water)" for a MATERIAL_ENTRY, from whichever of the two it has.
+inline std::string entry_label(const MaterialSection& entry) {
+    const auto* id = entry.find("ID");
+    const auto* name = entry.find("NAME");
+    std::string label = id ? "ID " + id->value : "(no ID)";
+    if (name) label += " (NAME = " + name->value + ")";
+    return label + " at " + entry.loc.where();
+}
+
+/// The MATERIAL_ENTRY among `root`'s to read: the one whose ID or NAME is `material`, or
+/// (material empty) the only one with a BULK_PROPERTIES section.
+inline const MaterialSection& choose_entry(const MaterialSection& root, std::string_view material) {
+    const auto entries = root.all("MATERIAL_ENTRY");
+    std::vector<const MaterialSection*> chosen;
+    std::string known;
+    for (const MaterialSection* e : entries) {
+        const auto* id = e->find("ID");
+        const auto* name = e->find("NAME");
+        const bool named = (id && id->value == material) || (name && name->value == material);
+        if (material.empty() ? !e->all("BULK_PROPERTIES").empty() : named) chosen.push_back(e);
+        known += (known.empty() ? "" : "; ") + entry_label(*e);
+    }
+    if (chosen.empty())
+        reject("material", material.empty() ? std::string("(none given)") : std::string(material),
+               material.empty() ? "no MATERIAL_ENTRY has BULK_PROPERTIES; the entries: " + known
+                                : "names no MATERIAL_ENTRY by ID or NAME; the entries: " + known,
+               entries.front()->loc.where());
+    if (chosen.size() > 1)
+        reject("material", material.empty() ? std::string("(none given)") : std::string(material),
+               material.empty() ? "several MATERIAL_ENTRY sections have BULK_PROPERTIES: name one by ID or NAME; the entries: " + known
+                                : "matches more than one MATERIAL_ENTRY: " + entry_label(*chosen[0]) + "; " + entry_label(*chosen[1]),
+               chosen[1]->loc.where());
+    return *chosen.front();
+}
+}  // namespace detail
+
+/// The IOP_MODEL of a parsed material file (root = parse_material's result), in either form:
+///  - the manual's (5.3): one BULK_PROPERTIES { IOP_MODEL { ... } } at the file's top level;
+///  - a DIRSIG material file: MATERIAL_ENTRY { ID = ... NAME = ... BULK_PROPERTIES { ... } }
+///    sections, of which the one whose ID or NAME is `material` is read (with `material`
+///    empty: the only entry that has BULK_PROPERTIES). The entry's other parameters and
+///    sections (SURFACE_PROPERTIES, RAD_SOLVER, ...) describe DIRSIG's surfaces and solvers,
+///    not the water: they are not read, and neither are other entries nor top-level parameters
+///    (DIRSIG_MAT = ...).
+/// A file with both forms, or `material` given for a file without entries, is rejected.
+inline iop::RuntimeIopModel bind_iop_model(const MaterialSection& root, std::uint64_t seed = 1,
+                                           std::string_view material = {}) {
+    const bool entries = !root.all("MATERIAL_ENTRY").empty();
+    if (!entries) {
+        if (!material.empty())
+            reject("material", std::string(material), "selects a MATERIAL_ENTRY, but the file has none",
+                   root.loc.file + ":" + std::to_string(detail::last_line(root)));
+        return detail::bind_bulk(root, seed);
+    }
+    if (const auto top = root.all("BULK_PROPERTIES"); !top.empty())
+        reject("section", "BULK_PROPERTIES",
+               "at the top level of a file of MATERIAL_ENTRY sections: put it inside its entry", top[0]->loc.where());
+    return detail::bind_bulk(detail::choose_entry(root, material), seed);
+}
+
+/// Reads and binds a material file (`material`: the MATERIAL_ENTRY's ID or NAME, see bind_iop_model).
+inline iop::RuntimeIopModel read_iop_model(const std::filesystem::path& path, std::uint64_t seed = 1,
+                                           std::string_view material = {}) {
+    return bind_iop_model(read_material_file(path), seed, material);
 }
 
 }  // namespace secchi::io
