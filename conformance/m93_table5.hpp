@@ -16,7 +16,7 @@ struct ReferenceValue {
     double spread;  ///< s/x
 };
 
-inline constexpr std::array<ReferenceValue, 45> m93_table5{{
+inline constexpr std::array<ReferenceValue, 51> m93_table5{{
     {"1a", 1, "Ed", 3.66e-1, 0.002},  {"1a", 1, "Eou", 3.72e-1, 0.005},  {"1a", 1, "Lu", 4.85e-2, 0.015},
     {"1a", 5, "Ed", 4.33e-2, 0.003},  {"1a", 5, "Eou", 4.35e-2, 0.007},  {"1a", 5, "Lu", 5.59e-3, 0.052},
     {"1a", 10, "Ed", 3.16e-3, 0.015}, {"1a", 10, "Eou", 3.20e-3, 0.038}, {"1a", 10, "Lu", 4.37e-4, 0.091},
@@ -32,6 +32,8 @@ inline constexpr std::array<ReferenceValue, 45> m93_table5{{
     {"3", 5, "Ed", 2.30e-1, 0.006},   {"3", 5, "Eou", 4.34e-2, 0.025},   {"3", 5, "Lu", 3.13e-3, 0.054},
     {"3", 25, "Ed", 1.62e-3, 0.028},  {"3", 25, "Eou", 2.86e-4, 0.038},  {"3", 25, "Lu", 2.12e-5, 0.061},
     {"3", 60, "Ed", 5.23e-5, 0.071},  {"3", 60, "Eou", 5.13e-6, 0.036},  {"3", 60, "Lu", 3.57e-7, 0.434},
+    {"6", 1, "Ed", 1.62e-1, 0.000},   {"6", 1, "Eou", 9.81e-4, 0.010},   {"6", 1, "Lu", 6.84e-5, 0.020},
+    {"6", 5, "Ed", 2.28e-3, 0.003},   {"6", 5, "Eou", 2.28e-3, 0.002},   {"6", 5, "Lu", 3.60e-4, 0.010},
 }};
 
 /// The DIRSIG photon-mapping results for problem 3 (the manual's Table 7.1, column PM), for

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Markdown table of canonical-runner results for each photon store, beside M93 Table 5 and
 the manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
-problems 1 and 2, metres for problem 3. A store's name is its file's: conformance_<store>.json.
+problems 1, 2 and 6, metres for problem 3. A store's name is its file's: conformance_<store>.json.
 The first file sets the rows; later ones may hold some problems only.
 usage: conformance_table.py conformance_kdtree.json conformance_voi.json [conformance_voi-grid.json ...]"""
 import json
@@ -14,6 +14,7 @@ DIRSIG = {  # manual Tables 7.1 and 7.2 (single maps of up to 1e7 photons)
     ("2a", 1): (4.13e-1, 9.19e-2, 7.40e-3), ("2a", 5): (1.86e-1, 4.57e-2, 3.05e-3), ("2a", 10): (6.93e-2, 1.66e-2, 8.85e-4),
     ("2b", 1): (1.62e-1, 9.63e-4, 5.33e-5), ("2b", 5): (2.28e-3, 1.17e-5, 7.39e-7), ("2b", 10): (1.29e-5, 6.19e-8, 3.92e-9),
     ("3", 5): (2.13e-1, 4.26e-2, 3.18e-3), ("3", 25): (1.46e-3, 2.54e-4, 1.83e-5), ("3", 60): (3.46e-5, 3.42e-6, 3.84e-7),
+    ("6", 1): (1.62e-1, 9.88e-4, 6.90e-5), ("6", 5): (2.29e-3, 2.28e-3, 3.63e-4),
 }
 QTY = {"Ed": 0, "Eou": 1, "Lu": 2}
 

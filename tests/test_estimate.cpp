@@ -129,6 +129,29 @@ TEST_CASE("Lu from the map equals the exact single-scattering radiance") {
     }
 }
 
+TEST_CASE("On a Lambertian bottom Eou = 2 Eu, so Eou = Ed where the reflectance is 0.5 (M93's problem-6 check)") {
+    PlaneParallelConfig cfg;
+    cfg.albedo = 0.5;
+    cfg.bottom = Bottom::lambertian_at(2.0, 0.5);
+    cfg.transport.photons = cfg.transport.map_photons = 200000;
+    cfg.transport.depths = {1.0, 2.0};
+    cfg.transport.threads = 2;
+    cfg.store = StoreKind::voi_grid;
+    const auto r = solve_plane_parallel(HenyeyGreensteinPhase(0.8), cfg);
+    const auto& above = r.depths[0];
+    const auto& bottom = r.depths[1];
+    CHECK(bottom.irradiance[Eou].value == 2.0 * bottom.irradiance[Eu].value);
+    CHECK(bottom.irradiance[Eou].se == 2.0 * bottom.irradiance[Eu].se);
+    const auto& ed = bottom.irradiance[Ed];
+    const auto& eou = bottom.irradiance[Eou];
+    INFO("Ed " << ed.value << " +- " << ed.se << ", Eou " << eou.value << " +- " << eou.se);
+    CHECK(std::abs(eou.value - ed.value) <= 4.0 * std::hypot(ed.se, eou.se));
+    // Above the bottom the layer's track-length estimate stands.
+    CHECK(above.irradiance[Eou].value != 2.0 * above.irradiance[Eu].value);
+    // On the bottom, nadir radiance is the bottom's own: 0.5 Ed / pi.
+    CHECK(bottom.lu.value == Approx(0.5 * r.bottom_ed.value / pi).epsilon(1e-12));
+}
+
 TEST_CASE("Rayleigh single scattering: p(pi) = 3/(8 pi)") {
     auto cfg = single_scattering_config(StoreKind::voi);
     const auto r = solve_plane_parallel(RayleighPhase{}, cfg);

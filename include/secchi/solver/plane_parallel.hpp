@@ -119,6 +119,17 @@ TransportResult<Record> first_pass(const M& medium, const Slab& slab, const Plan
     return PhotonTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
 }
 
+/// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the
+/// bottom with the same radiance A Ed / pi in every upward direction, so Eou = 2 pi A Ed / pi =
+/// 2 Eu exactly, Eu being the flux the bottom's plane counts leaving it. (The track-length layer,
+/// which ends at the bottom, sees the grazing part of that light attenuated within its thickness
+/// D: 4 % low for c D = 0.02. M93's problem 6 checks Eou = Ed at its bottom, where A = 0.5.)
+inline void eou_on_lambertian_bottom(const Bottom& bottom, std::vector<DepthResult>& depths) {
+    if (bottom.kind != BottomKind::lambertian) return;
+    for (auto& d : depths)
+        if (d.depth >= bottom.depth) d.irradiance[Eou] = {2.0 * d.irradiance[Eu].value, 2.0 * d.irradiance[Eu].se};
+}
+
 /// Lu at every depth from a built store with the store's natural collection volume.
 template <class Store, CollectionVolume Volume, Medium M, RayOptics Optics, class Record>
 void estimate_lu(const Store& store, const Volume& volume, const M& medium, const Optics& optics,
@@ -171,6 +182,7 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
     out.flux_per_map_photon = tr.flux_per_map_photon;
     out.seconds_transport = detail::seconds_since(t0);
     for (std::size_t i = 0; i < tr.depths.size(); ++i) out.depths.push_back({tr.depths[i], tr.irradiance[i], {}, 0});
+    detail::eou_on_lambertian_bottom(cfg.bottom, out.depths);
     if constexpr (std::is_same_v<Record, CompactRecord>)
         if (cfg.keep_map) out.map = tr.records;
 
