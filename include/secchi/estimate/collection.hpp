@@ -12,7 +12,7 @@
 //    distance t along the ray): the disk minus the circle segments beyond the planes (boundary
 //    bias compensation, manual 3.5.1). A vertical ray's cross-section is horizontal, never cut.
 //    The segment is meant to lie in the water; where a photon's point on the axis does not, the
-//    cross-section is taken at the plane it has crossed (half the disk or more).
+//    cross-section is taken at the plane it has crossed, so that no weight grows without bound.
 // Each calls visit(record index, distance along the ray, weight); VoiCylinder passes the
 // stores' runs of hits whole to a visitor that takes them (ChunkVisitor).
 #include "secchi/map/brute_force.hpp"
@@ -63,6 +63,9 @@ inline double disk_segment_area(double h, double r) {
     return r * r * (std::acos(x) - x * std::sqrt(1.0 - x * x));
 }
 
+/// sin(theta) of a direction whose vertical component (cos(theta)) is uz.
+inline double sin_from_cos(double uz) { return std::sqrt(std::max(0.0, 1.0 - uz * uz)); }
+
 /// The area inside the water (depths between top and bottom) of a disk of radius r centred at
 /// depth zc, perpendicular to a ray whose direction has vertical component uz: the cylinder's
 /// cross-section there (manual 3.5.1). Across the disk the depth changes by at most
@@ -71,7 +74,7 @@ inline double disk_segment_area(double h, double r) {
 /// never overlap (top < bottom). A horizontal disk (uz = +-1) is not cut: the whole disk.
 inline double disk_area_in_slab(double zc, double uz, double r, double top, double bottom) {
     const double full = pi * r * r;
-    const double sin_theta = std::sqrt(std::max(0.0, 1.0 - uz * uz));
+    const double sin_theta = sin_from_cos(uz);
     if (sin_theta == 0.0) return full;
     return full - disk_segment_area((zc - top) / sin_theta, r) - disk_segment_area((bottom - zc) / sin_theta, r);
 }
@@ -119,8 +122,7 @@ public:
         if (reaches_boundary(ray, r.value())) {
             auto collect = [&](const Hit& h) {
                 // The cross-section at the photon's point on the axis, taken at the plane where
-                // that point lies beyond it (a segment that leaves the water): at least half
-                // the disk, so no weight grows without bound.
+                // that point lies beyond it (a segment that leaves the water).
                 const double zc = std::clamp(ray.origin.z + h.t * ray.direction.z, top_, bottom_);
                 visit(h.index, h.t, 1.0 / disk_area_in_slab(zc, ray.direction.z, r.value(), top_, bottom_));
                 return true;
@@ -146,7 +148,7 @@ private:
     /// the segment: the disks reach r sin(theta) above and below the segment's depths.
     [[nodiscard]] bool reaches_boundary(const Ray& ray, double r) const {
         const double uz = ray.direction.z;
-        const double reach = r * std::sqrt(std::max(0.0, 1.0 - uz * uz));
+        const double reach = r * sin_from_cos(uz);
         if (reach == 0.0) return false;  // vertical: horizontal disks, never cut
         const double z0 = ray.origin.z, z1 = ray.origin.z + ray.t_max * uz;
         return std::min(z0, z1) - reach < top_ || std::max(z0, z1) + reach > bottom_;

@@ -19,8 +19,8 @@
 // direction (+z or -z): the estimator builds the two directions' tables once, when it is
 // constructed (a few microseconds), and every estimate() and accumulate() call looks them up.
 // (Built per accumulate() call instead, they made a short ray of ~60 photons 4 times as slow:
-// BENCHMARKS.md, fourteenth session.) The result is bit-identical to the per-photon formula (see detail::vertical_cosines for why);
-// optics without the tabulated form, other records and other rays take the per-photon formula.
+// BENCHMARKS.md, fourteenth session.) The result is bit-identical to the per-photon formula
+// (see detail::vertical_cosines for why); optics without the tabulated form, other records and other rays take the per-photon formula.
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/stats.hpp"

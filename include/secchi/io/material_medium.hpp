@@ -402,15 +402,18 @@ inline const MaterialSection& choose_entry(const MaterialSection& root, std::str
         if (material.empty() ? !e->all("BULK_PROPERTIES").empty() : named) chosen.push_back(e);
         known += (known.empty() ? "" : "; ") + entry_label(*e);
     }
+    const std::string given = material.empty() ? std::string("(none given)") : std::string(material);
     if (chosen.empty())
-        reject("material", material.empty() ? std::string("(none given)") : std::string(material),
-               material.empty() ? "no MATERIAL_ENTRY has BULK_PROPERTIES; the entries: " + known
-                                : "names no MATERIAL_ENTRY by ID or NAME; the entries: " + known,
+        reject("material", given,
+               (material.empty() ? "no MATERIAL_ENTRY has BULK_PROPERTIES" : "names no MATERIAL_ENTRY by ID or NAME") +
+                   std::string("; the entries: ") + known,
                entries.front()->loc.where());
     if (chosen.size() > 1)
-        reject("material", material.empty() ? std::string("(none given)") : std::string(material),
-               material.empty() ? "several MATERIAL_ENTRY sections have BULK_PROPERTIES: name one by ID or NAME; the entries: " + known
-                                : "matches more than one MATERIAL_ENTRY: " + entry_label(*chosen[0]) + "; " + entry_label(*chosen[1]),
+        reject("material", given,
+               material.empty() ? "several MATERIAL_ENTRY sections have BULK_PROPERTIES: name one by ID or NAME; "
+                                  "the entries: " + known
+                                : "matches more than one MATERIAL_ENTRY: " + entry_label(*chosen[0]) + "; " +
+                                      entry_label(*chosen[1]),
                chosen[1]->loc.where());
     return *chosen.front();
 }
