@@ -217,10 +217,8 @@ Estimate quantity_of(const DepthResult& d, std::string_view q) {
 StratifiedWater<AnyPhaseFunction> problem3_water(const CommandLine& cl) {
     const auto depths = iop::uniform_depths(100.0, 0.05);
     const double wl = conformance::problem3_wavelength_nm;
-    if (cl.has("material-entry") && !cl.has("material"))
-        reject("--material-entry", cl.text("material-entry"), "selects an entry of --material FILE, which is missing");
-    if (cl.has("material"))
-        return iop::stratify(io::read_iop_model(cl.text("material"), cl.count("seed", 1), cl.text("material-entry")), wl, depths);
+    if (cl.has("material") || cl.has("material-entry"))
+        return iop::stratify(io::read_iop_model_from_options(cl), wl, depths);
     const std::string name = cl.text("petzold", "petzold");
     const AnyPhase particle = parse_phase(name);
     if (!std::holds_alternative<TabulatedPhase>(particle))

@@ -108,12 +108,11 @@ void write_csv(std::ostream& os, const Model& m, const std::vector<double>& wave
 void run(const secchi::CommandLine& cl, std::ostream& os) {
     if (cl.has("material") == cl.has("problem3"))
         secchi::reject("medium", "(options)", "give exactly one of --material FILE and --problem3");
-    if (cl.has("material-entry") && !cl.has("material"))
-        secchi::reject("--material-entry", cl.text("material-entry"), "selects an entry of --material FILE, which is missing");
     const auto wavelengths = parse_range("wavelengths", cl.text("wavelengths", "400:700:10"));
     const auto depths = parse_range("depths", cl.text("depths", "0:60:5"));
-    if (cl.has("problem3")) return write_csv(os, secchi::conformance::problem3_model(), wavelengths, depths);
-    const auto model = secchi::io::read_iop_model(cl.text("material"), cl.count("seed", 1), cl.text("material-entry"));
+    if (cl.has("problem3") && !cl.has("material-entry"))
+        return write_csv(os, secchi::conformance::problem3_model(), wavelengths, depths);
+    const auto model = secchi::io::read_iop_model_from_options(cl);
     write_csv(os, model, wavelengths, depths);
 }
 

@@ -26,6 +26,7 @@
 // removes every other scattering model, the base medium's included.
 // Every error names the file, line, section and parameter. SIGMA noise is keyed by the run's
 // seed and the model's position in the file (optics/iop/noise.hpp).
+#include "secchi/io/cli.hpp"
 #include "secchi/io/material_file.hpp"
 #include "secchi/optics/iop/absorption.hpp"
 #include "secchi/optics/iop/coefficient.hpp"
@@ -447,6 +448,14 @@ inline iop::RuntimeIopModel bind_iop_model(const MaterialSection& root, std::uin
 inline iop::RuntimeIopModel read_iop_model(const std::filesystem::path& path, std::uint64_t seed = 1,
                                            std::string_view material = {}) {
     return bind_iop_model(read_material_file(path), seed, material);
+}
+
+/// The material file the programs' options name: --material FILE, --material-entry ID|NAME
+/// and SIGMA's --seed (default 1). --material-entry without --material is rejected.
+inline iop::RuntimeIopModel read_iop_model_from_options(const CommandLine& cl) {
+    if (cl.has("material-entry") && !cl.has("material"))
+        reject("--material-entry", cl.text("material-entry"), "selects an entry of --material FILE, which is missing");
+    return read_iop_model(cl.required_text("material"), cl.count("seed", 1), cl.text("material-entry"));
 }
 
 }  // namespace secchi::io
