@@ -10,13 +10,13 @@ namespace secchi::conformance {
 
 struct ReferenceValue {
     std::string_view problem;
-    double depth;  ///< optical depth tau (problems 1, 2, 6) or metres (problem 3)
+    double depth;  ///< optical depth tau (problems 1, 2, 5, 6) or metres (problem 3)
     std::string_view quantity;
     double value;
     double spread;  ///< s/x
 };
 
-inline constexpr std::array<ReferenceValue, 51> m93_table5{{
+inline constexpr std::array<ReferenceValue, 60> m93_table5{{
     {"1a", 1, "Ed", 3.66e-1, 0.002},  {"1a", 1, "Eou", 3.72e-1, 0.005},  {"1a", 1, "Lu", 4.85e-2, 0.015},
     {"1a", 5, "Ed", 4.33e-2, 0.003},  {"1a", 5, "Eou", 4.35e-2, 0.007},  {"1a", 5, "Lu", 5.59e-3, 0.052},
     {"1a", 10, "Ed", 3.16e-3, 0.015}, {"1a", 10, "Eou", 3.20e-3, 0.038}, {"1a", 10, "Lu", 4.37e-4, 0.091},
@@ -32,6 +32,9 @@ inline constexpr std::array<ReferenceValue, 51> m93_table5{{
     {"3", 5, "Ed", 2.30e-1, 0.006},   {"3", 5, "Eou", 4.34e-2, 0.025},   {"3", 5, "Lu", 3.13e-3, 0.054},
     {"3", 25, "Ed", 1.62e-3, 0.028},  {"3", 25, "Eou", 2.86e-4, 0.038},  {"3", 25, "Lu", 2.12e-5, 0.061},
     {"3", 60, "Ed", 5.23e-5, 0.071},  {"3", 60, "Eou", 5.13e-6, 0.036},  {"3", 60, "Lu", 3.57e-7, 0.434},
+    {"5", 1, "Ed", 1.14e-1, 0.012},   {"5", 1, "Eou", 3.55e-2, 0.020},   {"5", 1, "Lu", 2.09e-3, 0.031},
+    {"5", 5, "Ed", 4.33e-2, 0.009},   {"5", 5, "Eou", 1.22e-2, 0.028},   {"5", 5, "Lu", 7.63e-4, 0.036},
+    {"5", 10, "Ed", 1.48e-2, 0.007},  {"5", 10, "Eou", 3.65e-3, 0.020},  {"5", 10, "Lu", 2.49e-4, 0.025},
     {"6", 1, "Ed", 1.62e-1, 0.000},   {"6", 1, "Eou", 9.81e-4, 0.010},   {"6", 1, "Lu", 6.84e-5, 0.020},
     {"6", 5, "Ed", 2.28e-3, 0.003},   {"6", 5, "Eou", 2.28e-3, 0.002},   {"6", 5, "Lu", 3.60e-4, 0.010},
 }};

@@ -6,6 +6,7 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
+#include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/lane_tracer.hpp"
 #include "transport_checks.hpp"
 #include <algorithm>
@@ -451,6 +452,25 @@ void check_agrees_with_photon_tracer() {
     testing::check_agree(events_per_photon(a), events_per_photon(b), "Petzold stored events per photon");
 }
 
+/// `Tracer` against PhotonTracer under a wind-blown surface with a grazing sun (the surface's
+/// hits go through PhotonTracer's per-photon functions lane by lane).
+template <template <class, class, class> class Tracer>
+void check_agrees_under_a_wind_blown_surface() {
+    using Water = HomogeneousWater<HenyeyGreensteinPhase>;
+    const auto medium = Water::from_albedo(1.0, 0.8, HenyeyGreensteinPhase(0.85));
+    const Slab slab(1.0, Bottom::lambertian_at(6.0, 0.5), 30.0);
+    TransportSettings s;
+    s.photons = s.map_photons = 60000;
+    s.depths = {0.0, 1.0, 3.0};
+    const WindBlownSurface surface(0.04);
+    const CollimatedSun sun(80.0);
+    const auto a = PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, sun, s).run();
+    const auto b = Tracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, sun, s).run();
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance");
+    testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
+}
+
 template <template <class, class> class Tracer>
 void check_same_for_1_and_2_threads() {
     testing::require_same_for_1_and_2_threads(AbsorptionMode::implicit_capture, [](const TransportSettings& s) {
@@ -467,8 +487,17 @@ TEST_CASE("LaneTracer in float lanes and PhotonTracer agree within their standar
     check_agrees_with_photon_tracer<FloatLaneTracer>();
 }
 
+/// LaneTracer in double lanes with PhotonTracer's three parameters (medium, record, surface).
+template <class M, class Record, class Surface>
+using DoubleLaneTracer = LaneTracer<M, Record, double, Surface>;
+
+TEST_CASE("LaneTracer and PhotonTracer agree under a wind-blown surface, in double and float lanes") {
+    check_agrees_under_a_wind_blown_surface<DoubleLaneTracer>();
+    check_agrees_under_a_wind_blown_surface<FloatLaneTracer>();
+}
+
 TEST_CASE("LaneTracer's surface detector counts every photon that reaches the surface from below") {
-    testing::check_surface_plane_counts_every_crossing<LaneTracer>(1e-12);
+    testing::check_surface_plane_counts_every_crossing<DoubleLaneTracer>(1e-12);
 }
 
 // In float lanes the weights are rounded to float between events (u relative each time) and

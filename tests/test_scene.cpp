@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
+#include "secchi/core/stats.hpp"
 #include "secchi/scene/flat_surface.hpp"
+#include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
+#include <vector>
 
 using namespace secchi;
 
@@ -67,4 +70,145 @@ TEST_CASE("Periodic wrap lands in [0, W)") {
         REQUIRE(w < 2.0);
     }
     REQUIRE(slab.wrap(7.5) == Approx(1.5));
+}
+
+// ---- The wind-blown surface (scene/wind_blown_surface.hpp) ----------------------------------
+
+namespace {
+
+/// What a photon of direction d (moving down, from the air, or up, from the water) meets on
+/// average, by quadrature over the slope plane instead of by sampling: the facet slopes (t
+/// along the photon's horizontal travel, t_perp across it) have density p ~ exp(-(t^2 +
+/// t_perp^2) / sigma^2), each weighted by the area the facet shows the photon, mu + h t
+/// (projected_area), or by 1 where that is positive (redraw). Midpoint rule on 600 x 600
+/// cells over +-6 standard deviations. Returns the mean reflectance and the mean |z| of the
+/// transmitted direction (its cosine in the other medium) over the transmitted part.
+struct FacetAverages {
+    double reflectance, transmitted_cosine;
+};
+FacetAverages facet_quadrature(const vec3& d, Side from, double variance, FacetSampling sampling) {
+    const double n1 = from == Side::air ? 1.0 : 1.34, n2 = from == Side::air ? 1.34 : 1.0;
+    const double mu = std::abs(d.z), h = std::hypot(d.x, d.y);
+    const double sd = std::sqrt(variance / 2.0), range = 6.0 * sd;
+    const int cells = 600;
+    const double step = 2.0 * range / cells;
+    double mass = 0, reflected = 0, transmitted = 0, cosine = 0;
+    for (int i = 0; i < cells; ++i)
+        for (int j = 0; j < cells; ++j) {
+            const double t = -range + (i + 0.5) * step, tp = -range + (j + 0.5) * step;
+            const double seen = mu + h * t;
+            if (seen <= 0) continue;
+            const double w = std::exp(-(t * t + tp * tp) / variance) * (sampling == FacetSampling::projected_area ? seen : 1.0);
+            // The facet's normal facing the photon, in the frame where the photon travels along +x
+            // moving down; its cosine of incidence cos_i = seen / |(t, tp, 1)|.
+            const double norm = std::sqrt(1 + t * t + tp * tp), cos_i = seen / norm;
+            const double r = fresnel_reflectance(cos_i, n1, n2);
+            const vec3 m{-t / norm, -tp / norm, -1.0 / norm}, down{h, 0.0, mu};
+            mass += w;
+            reflected += w * r;
+            if (r < 1) {
+                transmitted += w * (1 - r);
+                cosine += w * (1 - r) * std::abs(refract_through(down, m, cos_i, n1, n2).z);
+            }
+        }
+    return {reflected / mass, cosine / transmitted};
+}
+
+/// The same averages from `n` sampled hits, each with its standard error (the transmitted
+/// cosine is a ratio of means, sum (1 - R) |z| / sum (1 - R): its SE by the delta method).
+struct SampledAverages {
+    Estimate reflectance, transmitted_cosine;
+};
+SampledAverages sampled_hits(const WindBlownSurface& surface, const vec3& d, Side from, int n) {
+    std::vector<double> r(n), z(n);
+    PhotonRng rng(5, 0);
+    for (int i = 0; i < n; ++i) {
+        const SurfaceHit hit = surface.hit(d, from, rng);
+        r[i] = hit.reflectance;
+        z[i] = std::abs(hit.transmitted.z);
+    }
+    const auto mean_and_se = [n](auto&& value) {
+        double sum = 0, sum2 = 0;
+        for (int i = 0; i < n; ++i) sum += value(i), sum2 += value(i) * value(i);
+        const double mean = sum / n;
+        return Estimate{mean, std::sqrt((sum2 / n - mean * mean) / (n - 1))};
+    };
+    const Estimate refl = mean_and_se([&](int i) { return r[i]; });
+    const Estimate tw = mean_and_se([&](int i) { return 1 - r[i]; });
+    const Estimate twz = mean_and_se([&](int i) { return (1 - r[i]) * z[i]; });
+    const double cosine = twz.value / tw.value;
+    const Estimate residual = mean_and_se([&](int i) { return (1 - r[i]) * (z[i] - cosine) / tw.value; });
+    return {refl, {cosine, residual.se}};
+}
+
+}  // namespace
+
+TEST_CASE("Wind-blown facets are met in proportion to the area they show the photon (M93's weighting, eq. 7.13)") {
+    // Grazing sun (problem 5's 80 deg), the sun overhead, and light from below at 30 and 60 deg.
+    struct Case {
+        vec3 d;
+        Side from;
+    };
+    const double s80 = std::sin(80 * deg), c80 = std::cos(80 * deg);
+    const std::vector<Case> cases = {
+        {{s80, 0.0, c80}, Side::air},
+        {{0.0, 0.0, 1.0}, Side::air},
+        {{0.3 * std::sin(30 * deg), std::sqrt(0.91) * std::sin(30 * deg), -std::cos(30 * deg)}, Side::water},
+        {{std::sin(60 * deg), 0.0, -std::cos(60 * deg)}, Side::water},
+    };
+    for (const FacetSampling sampling : {FacetSampling::projected_area, FacetSampling::redraw}) {
+        const WindBlownSurface surface(0.04, 1.34, sampling);
+        for (const auto& c : cases) {
+            const FacetAverages exact = facet_quadrature(c.d, c.from, 0.04, sampling);
+            const SampledAverages mc = sampled_hits(surface, c.d, c.from, 200000);
+            INFO("sampling " << static_cast<int>(sampling) << ", direction (" << c.d.x << ", " << c.d.y << ", " << c.d.z
+                             << "): reflectance " << mc.reflectance.value << " +- " << mc.reflectance.se << " vs "
+                             << exact.reflectance << "; transmitted cosine " << mc.transmitted_cosine.value << " +- "
+                             << mc.transmitted_cosine.se << " vs " << exact.transmitted_cosine);
+            CHECK(std::abs(mc.reflectance.value - exact.reflectance) <= 4 * mc.reflectance.se + 1e-6);
+            CHECK(std::abs(mc.transmitted_cosine.value - exact.transmitted_cosine) <= 4 * mc.transmitted_cosine.se + 1e-6);
+        }
+    }
+}
+
+TEST_CASE("A grazing sun's light meets the wind-blown surface with reflectance near 0.25, not the flat 0.35") {
+    // Preisendorfer and Mobley (1986), as M93 quote them for problem 5: a capillary-wave surface
+    // at U = 7.23 m/s reflects more than 0.22 of a sun at 80 deg; a flat one 0.350.
+    const double s80 = std::sin(80 * deg), c80 = std::cos(80 * deg);
+    const FacetAverages wind = facet_quadrature({s80, 0.0, c80}, Side::air, 0.04, FacetSampling::projected_area);
+    CHECK(fresnel_reflectance(c80, 1.0, 1.34) == Approx(0.3502).margin(1e-4));
+    CHECK(wind.reflectance > 0.22);
+    CHECK(wind.reflectance < 0.30);
+}
+
+TEST_CASE("A hit's directions are unit vectors on the right sides of its facet, and a flat surface's are Snell's") {
+    const WindBlownSurface surface(0.04);
+    PhotonRng rng(3, 1);
+    const vec3 sun = CollimatedSun(70.0).direction();
+    for (int i = 0; i < 1000; ++i) {
+        const SurfaceHit h = surface.hit(sun, Side::air, rng);
+        CHECK(glm::length(h.reflected) == Approx(1.0).margin(1e-12));
+        CHECK(glm::length(h.transmitted) == Approx(1.0).margin(1e-12));
+        // Reflection keeps the angle to the facet's normal; refraction obeys Snell's law about it:
+        // the normal is along reflected - sun, and sin(theta_t) = sin(theta_i) / 1.34.
+        const vec3 m = glm::normalize(h.reflected - sun);
+        const double cos_i = std::abs(glm::dot(sun, m)), cos_t = std::abs(glm::dot(h.transmitted, m));
+        CHECK(std::sqrt(1 - cos_t * cos_t) == Approx(std::sqrt(1 - cos_i * cos_i) / 1.34).margin(1e-9));
+        CHECK(h.reflectance == Approx(fresnel_reflectance(cos_i, 1.0, 1.34)).margin(1e-12));
+    }
+    PhotonRng unused(0, 0);
+    const FlatSurface flat(1.34);
+    const SurfaceHit h = flat.hit(sun, Side::air, unused);
+    CHECK(h.reflectance == flat.reflectance_from_air(sun));
+    CHECK(h.transmitted == flat.transmit_into_water(sun));
+    CHECK(h.reflected == FlatSurface::reflect(sun));
+}
+
+TEST_CASE("Invalid wind-blown surfaces are rejected with the parameter's name") {
+    REQUIRE_THROWS_WITH(WindBlownSurface(0.0), Catch::Contains("slope variance"));
+    REQUIRE_THROWS_WITH(WindBlownSurface(NAN), Catch::Contains("slope variance"));
+    REQUIRE_THROWS_WITH(WindBlownSurface(0.04, 0.5), Catch::Contains("water index"));
+    REQUIRE_THROWS_WITH(WindBlownSurface::from_wind_speed(-1.0), Catch::Contains("wind speed"));
+    REQUIRE_THROWS_WITH(parse_facets("weighted"), Catch::Contains("facets"));
+    CHECK(WindBlownSurface::from_wind_speed(7.23).slope_variance() == Approx(0.04).margin(2e-5));
 }

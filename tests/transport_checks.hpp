@@ -6,9 +6,11 @@
 #include <catch2/catch.hpp>
 
 #include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace secchi::testing {
 
@@ -58,30 +60,37 @@ void require_same_for_1_and_2_threads(AbsorptionMode mode, Trace&& trace) {
 /// not an estimate: the check is to the rounding of the sums (`relative` of Ed(0) + Eu(0)), for
 /// every absorption mode, with and without a refracting surface (n = 1: every photon that
 /// reaches the surface escapes), for the tracer under test (PhotonTracer, LaneTracer) on water
-/// with a reflecting bottom.
-template <template <class, class> class Tracer>
+/// with a reflecting bottom; under a flat surface, and under a wind-blown one with a grazing sun,
+/// whose photons meet the surface again when a tilted facet sends them back across it (their
+/// hits make no flights, so the plane must see only where each history finally crosses).
+template <template <class, class, class> class Tracer>
 void check_surface_plane_counts_every_crossing(double relative) {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
     const auto water = Water::from_albedo(1.0, 0.9, HenyeyGreensteinPhase(0.5));
     const Slab slab(1.0, Bottom::lambertian_at(3.0, 0.5), 30.0);
-    const CollimatedSun sun(40.0);
-    for (const AbsorptionMode mode :
-         {AbsorptionMode::analog, AbsorptionMode::implicit_capture, AbsorptionMode::continuous})
-        for (const double n : {1.34, 1.0}) {
+    const auto check = [&](const auto& surface, const CollimatedSun& sun, const std::string& what) {
+        using Surface = std::decay_t<decltype(surface)>;
+        for (const AbsorptionMode mode :
+             {AbsorptionMode::analog, AbsorptionMode::implicit_capture, AbsorptionMode::continuous}) {
             TransportSettings s;
             s.photons = s.map_photons = 20000;
             s.depths = {0.0, 1.0};
             s.absorption = mode;
-            const auto r = Tracer<Water, CompactRecord>(water, slab, FlatSurface(n), sun, s).run();
+            const auto r = Tracer<Water, CompactRecord, Surface>(water, slab, surface, sun, s).run();
             const double net = r.irradiance[0][Ed].value - r.irradiance[0][Eu].value;
             const auto& ledger = r.ledger;
-            INFO("absorption mode " << static_cast<int>(mode) << ", n = " << n << ": Ed(0) " << r.irradiance[0][Ed].value
-                                    << ", Eu(0) " << r.irradiance[0][Eu].value << ", escaped " << ledger.escaped_up);
+            INFO(what << ", absorption mode " << static_cast<int>(mode) << ": Ed(0) " << r.irradiance[0][Ed].value
+                      << ", Eu(0) " << r.irradiance[0][Eu].value << ", escaped " << ledger.escaped_up);
             CHECK(ledger.escaped_up > 0.05);
+            CHECK(ledger.truncated == 0.0);
             const double entered =
                 sun.plane_irradiance() * (ledger.incident - ledger.surface_reflected - ledger.escaped_up);
             CHECK(std::abs(net - entered) <= relative * (r.irradiance[0][Ed].value + r.irradiance[0][Eu].value));
         }
+    };
+    check(FlatSurface(1.34), CollimatedSun(40.0), "flat, n = 1.34");
+    check(FlatSurface(1.0), CollimatedSun(40.0), "no interface");
+    check(WindBlownSurface(0.04, 1.34), CollimatedSun(80.0), "wind-blown, sigma^2 = 0.04, sun at 80 deg");
 }
 
 /// The plane detector on a Lambertian bottom counts every photon that reaches the bottom and

@@ -4,6 +4,7 @@
 // of exactly 1.0 means "no interface": nothing is reflected and directions are unchanged.
 #include "secchi/core/error.hpp"
 #include "secchi/scene/fresnel.hpp"
+#include "secchi/scene/surface.hpp"
 
 namespace secchi {
 
@@ -17,6 +18,13 @@ public:
     [[nodiscard]] double water_index() const { return n_water_; }
     [[nodiscard]] double air_index() const { return n_air_; }
     [[nodiscard]] bool is_interface() const { return n_water_ != n_air_; }
+
+    /// The AirWaterSurface policy (surface.hpp): every photon meets the one horizontal facet.
+    static constexpr bool random_facets = false;
+    [[nodiscard]] SurfaceHit hit(const vec3& dir, Side from, PhotonRng& /*unused*/) const {
+        if (from == Side::air) return {reflectance_from_air(dir), reflect(dir), transmit_into_water(dir)};
+        return {reflectance_from_water(dir), reflect(dir), transmit_into_air(dir)};
+    }
 
     /// Reflectance for a downward direction arriving from the air.
     [[nodiscard]] double reflectance_from_air(const vec3& dir) const {
@@ -34,5 +42,7 @@ private:
     double n_water_;
     double n_air_;
 };
+
+static_assert(AirWaterSurface<FlatSurface>);
 
 }  // namespace secchi

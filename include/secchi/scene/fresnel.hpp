@@ -31,6 +31,20 @@ inline vec3 refract_horizontal(const vec3& dir, double n1, double n2) {
     return {sx, sy, std::copysign(uz, dir.z)};
 }
 
+/// Reflection about a tilted facet of unit normal m facing the incident side (m . d < 0, with
+/// cos_i = -m . d): d' = d + 2 cos_i m (Mobley 1994, "Light and Water", eq. 4.11).
+inline vec3 reflect_about(const vec3& d, const vec3& m, double cos_i) { return d + (2.0 * cos_i) * m; }
+
+/// Refraction through a tilted facet (unit normal m facing the incident side, cos_i = -m . d)
+/// from index n1 into n2, the vector form of Snell's law (Mobley 1994, eq. 4.12):
+/// d' = eta d + (eta cos_i - cos_t) m, eta = n1 / n2, cos_t = sqrt(1 - eta^2 (1 - cos_i^2)).
+/// Precondition: no total internal reflection.
+inline vec3 refract_through(const vec3& d, const vec3& m, double cos_i, double n1, double n2) {
+    const double eta = n1 / n2;
+    const double cos_t = std::sqrt(std::max(0.0, 1.0 - eta * eta * (1.0 - cos_i * cos_i)));
+    return glm::normalize(eta * d + (eta * cos_i - cos_t) * m);
+}
+
 /// Critical angle (radians) for light in the denser medium n_dense against n_rare.
 inline double critical_angle(double n_dense, double n_rare) { return std::asin(n_rare / n_dense); }
 

@@ -2,7 +2,7 @@
 // A plane-parallel problem end to end (the canonical problems' set-up, M93 section 3):
 // homogeneous water of attenuation c and albedo w0 (problems 1, 2, 6), or depth-varying water
 // (problem 3, solve_stratified), under a collimated sun and a black sky,
-// flat surface, optional bottom. First pass: photons traced, irradiance detectors tallied,
+// a flat or wind-blown surface (problem 5), optional bottom. First pass: photons traced, irradiance detectors tallied,
 // the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
 // (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
@@ -16,6 +16,7 @@
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/optics/phase/cone_average.hpp"
+#include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <chrono>
 #include <optional>
@@ -63,6 +64,8 @@ struct PlaneParallelConfig {
     double albedo = 0.9;           ///< w0 = b / c
     double sun_zenith_deg = 60.0;
     double water_index = 1.34;     ///< 1.0 = no interface
+    double slope_variance = 0.0;   ///< > 0: a wind-blown surface of this facet slope variance sigma^2 (eq. 7.12); 0: flat
+    FacetSampling facets = FacetSampling::projected_area;  ///< how a wind-blown surface's facets are met
     Bottom bottom;                 ///< depth in metres
     TransportSettings transport;   ///< photons, map photons, seed, threads, batches, depths, absorption
     StoreKind store = StoreKind::voi;
@@ -102,21 +105,33 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// The first pass by the tracer cfg.tracer names.
-template <PhotonRecord Record, Medium M>
-TransportResult<Record> first_pass(const M& medium, const Slab& slab, const PlaneParallelConfig& cfg) {
-    const FlatSurface surface(cfg.water_index);
+/// The first pass by the tracer cfg.tracer names, through `surface`.
+template <PhotonRecord Record, Medium M, AirWaterSurface Surface>
+TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, const Surface& surface,
+                                           const PlaneParallelConfig& cfg) {
     const CollimatedSun sun(cfg.sun_zenith_deg);
 #if SECCHI_HAS_LANES
     if constexpr (depth_independent<M>) {
-        if (cfg.tracer == TracerKind::lanes) return LaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+        if (cfg.tracer == TracerKind::lanes)
+            return LaneTracer<M, Record, double, Surface>(medium, slab, surface, sun, cfg.transport).run();
         if (cfg.tracer == TracerKind::float_lanes)
-            return FloatLaneTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+            return FloatLaneTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport).run();
     }
 #endif
     require(cfg.tracer == TracerKind::photon, "tracer", cfg.tracer == TracerKind::lanes ? "lanes" : "lanes-float",
             "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
-    return PhotonTracer<M, Record>(medium, slab, surface, sun, cfg.transport).run();
+    return PhotonTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport).run();
+}
+
+/// The first pass through the surface cfg describes: flat, or wind-blown (slope_variance > 0).
+template <PhotonRecord Record, Medium M>
+TransportResult<Record> first_pass(const M& medium, const Slab& slab, const PlaneParallelConfig& cfg) {
+    require(std::isfinite(cfg.slope_variance) && cfg.slope_variance >= 0.0, "slope variance", cfg.slope_variance,
+            "must be >= 0 (0: a flat surface)");
+    if (cfg.slope_variance > 0.0)
+        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slope_variance, cfg.water_index, cfg.facets),
+                                          cfg);
+    return first_pass_through<Record>(medium, slab, FlatSurface(cfg.water_index), cfg);
 }
 
 /// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the

@@ -52,11 +52,12 @@ concept LanePhaseSampler = requires(const P p, Lanes u) {
 /// directions and weights rounded to float between events (a relative 6e-8; the map's records
 /// hold floats anyway), and detector tallies summed in float over at most flush_steps steps
 /// per lane before they join the block's double sums.
-template <Medium M, PhotonRecord Record, class Real = double>
+/// Surface: the air-water surface policy (scene/surface.hpp), met lane by lane as PhotonTracer does.
+template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface>
     requires depth_independent<M> && std::default_initializable<Record> &&
              (std::same_as<Real, double> || std::same_as<Real, float>)
-class LaneTracer : private PhotonTracer<M, Record> {
-    using Base = PhotonTracer<M, Record>;
+class LaneTracer : private PhotonTracer<M, Record, Surface> {
+    using Base = PhotonTracer<M, Record, Surface>;
     using typename Base::PhotonState;
     using Reals = lanes::LanesOf<Real>;
     using Mask = typename Reals::mask_type;
@@ -69,7 +70,7 @@ class LaneTracer : private PhotonTracer<M, Record> {
     static constexpr std::uint64_t flush_steps = 64;
 
 public:
-    LaneTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
+    LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
                TransportSettings settings)
         : Base(medium, slab, surface, sun, supported(std::move(settings))),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
@@ -389,10 +390,9 @@ private:
     Real path_coefficient_;             ///< c, or b with continuous absorption (1/m)
 };
 
-/// LaneTracer in float lanes (twice the lanes per vector), as a two-parameter template like
-/// PhotonTracer's.
-template <Medium M, PhotonRecord Record>
-using FloatLaneTracer = LaneTracer<M, Record, float>;
+/// LaneTracer in float lanes (twice the lanes per vector), with PhotonTracer's parameters.
+template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface>
+using FloatLaneTracer = LaneTracer<M, Record, float, Surface>;
 
 }  // namespace secchi
 #endif

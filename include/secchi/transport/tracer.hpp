@@ -1,9 +1,10 @@
 #pragma once
 // The first pass (manual 3.3): equal-flux photons from a collimated sun, refracted through
-// the flat surface, exponential free paths (eq. 3.17), absorption or scattering by the
-// albedo (3.3.5), storage of scattering events in the photon map (3.3.6), Fresnel
-// reflection and refraction at the surface from below, a Lambertian or transparent bottom,
-// and irradiance detectors. Every photon's weight ends in the energy ledger.
+// the surface (a policy: flat, or wind-blown facets; scene/surface.hpp), exponential free paths
+// (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage of scattering events in
+// the photon map (3.3.6), Fresnel reflection and refraction at the surface from below, a
+// Lambertian or transparent bottom, and irradiance detectors. Every photon's weight ends in
+// the energy ledger.
 //
 // Parallel and reproducible: photon i draws only from its own counter-based stream
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
@@ -13,6 +14,7 @@
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/scene/flat_surface.hpp"
+#include "secchi/scene/surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
 #include "secchi/transport/blocks.hpp"
@@ -21,6 +23,7 @@
 #include "secchi/transport/parallel.hpp"
 #include "secchi/transport/settings.hpp"
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 namespace secchi {
@@ -52,17 +55,16 @@ struct BlockResult {
 
 }  // namespace detail
 
-template <Medium M, PhotonRecord Record>
+template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface>
 class PhotonTracer {
 public:
-    PhotonTracer(const M& medium, const Slab& slab, const FlatSurface& surface, const CollimatedSun& sun,
+    PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
                  TransportSettings settings)
         : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(validated(std::move(settings))),
           layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
           continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(sun.direction()),
-          entry_reflectance_(surface.reflectance_from_air(sun_direction_)),
-          entry_direction_(surface.transmit_into_water(sun_direction_)) {}
+          sun_hit_(fixed_sun_hit(surface, sun_direction_)) {}
 
     /// Traces the photons. The map's records go into `storage` (cleared first): pass the
     /// records of an earlier run (`std::move(result.records)`) to reuse their memory, which
@@ -201,32 +203,68 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         return false;
     }
 
-    /// Transmission of a photon from the sun through the surface (Fresnel; every photon
-    /// arrives along the sun's direction, so its reflectance and refracted direction are
-    /// computed once). False if the photon is lost.
+    /// A photon from the sun through the surface. False if the photon is lost (its weight
+    /// then is in the ledger's surface_reflected).
     bool enter_water(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        const double r = entry_reflectance_;
-        if (s_.absorption != AbsorptionMode::analog) {
-            ledger.surface_reflected += r;  // expected value: the weight carries the transmittance
-            p.w = 1.0 - r;
-        } else if (rng.uniform() < r) {
-            ledger.surface_reflected += 1.0;
-            return false;
-        }
-        p.dir = entry_direction_;
-        return true;
+        return cross_surface(p, rng, Side::air, sun_hit(rng), ledger.surface_reflected, ledger);
     }
 
     /// At the surface from below: reflect (Fresnel, total internal reflection) or escape.
     bool leave_or_reflect_at_surface(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
         p.pos.z = 0.0;
-        if (rng.uniform() < surface_.reflectance_from_water(p.dir)) {
-            p.dir = FlatSurface::reflect(p.dir);
-            return true;
+        return cross_surface(p, rng, Side::water, surface_.hit(p.dir, Side::water, rng), ledger.escaped_up, ledger);
+    }
+
+    /// The photon meets the surface from `side` (its first hit `h`) until it is in the water
+    /// moving down (true) or in the air moving up (false: its weight goes to `left`, the
+    /// ledger's entry for light leaving through the surface). Reflection or transmission is
+    /// chosen with the Fresnel probability, except that on the air side, where reflected light
+    /// leaves the water body for good, photons that are not analog take the expected value: the
+    /// weight times R leaves and the weight times 1 - R is transmitted (so every sun photon
+    /// enters through a flat surface). A wind-blown surface's tilted facet can send a photon
+    /// back across the surface (reflected down on the air side, transmitted down into the air,
+    /// or up in the water): it then meets the surface again, ignoring shadowing as M93's
+    /// problem 5 does. After max_surface_hits hits the photon stops, its weight truncated.
+    bool cross_surface(PhotonState& p, PhotonRng& rng, Side side, SurfaceHit h, double& left,
+                       EnergyLedger& ledger) const {
+        for (int hits = 1;; ++hits) {
+            const bool from_air = side == Side::air;
+            bool reflect;
+            if (from_air && s_.absorption != AbsorptionMode::analog && h.reflected.z < 0.0) {
+                left += p.w * h.reflectance;  // expected value: the weight carries the transmittance
+                p.w *= 1.0 - h.reflectance;
+                reflect = false;
+            } else {
+                reflect = rng.uniform() < h.reflectance;
+            }
+            p.dir = reflect ? h.reflected : h.transmitted;
+            const bool in_water = from_air != reflect;  // the side the photon is now on
+            if (in_water && p.dir.z > 0.0) return true;
+            if (!in_water && p.dir.z < 0.0) {
+                left += p.w;
+                return false;
+            }
+            if (hits == max_surface_hits) break;
+            side = in_water ? Side::water : Side::air;  // back across the surface: another facet
+            h = surface_.hit(p.dir, side, rng);
         }
-        ledger.escaped_up += p.w;
+        ledger.truncated += p.w;
         return false;
     }
+
+    /// The hit of a photon from the sun: computed once when it draws no random numbers.
+    SurfaceHit sun_hit(PhotonRng& rng) const {
+        if constexpr (Surface::random_facets) return surface_.hit(sun_direction_, Side::air, rng);
+        else return *sun_hit_;
+    }
+    static std::optional<SurfaceHit> fixed_sun_hit(const Surface& surface, const vec3& sun_direction) {
+        if constexpr (Surface::random_facets) return std::nullopt;
+        else {
+            PhotonRng unused(0, 0);
+            return surface.hit(sun_direction, Side::air, unused);
+        }
+    }
+    static constexpr int max_surface_hits = 64;
 
     /// At the floor: Lambertian reflection (weight x albedo in implicit capture, or survival
     /// with probability albedo in analog mode), or transmission out of the water body.
@@ -372,16 +410,15 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
 
     const M& medium_;
     Slab slab_;
-    FlatSurface surface_;
+    Surface surface_;
     CollimatedSun sun_;
     TransportSettings s_;
     IrradianceLayers layers_;
     bool continuous_, importance_on_;
     ImportanceLevels levels_;
     double w0_;  ///< the albedo of a depth-independent medium
-    vec3 sun_direction_;       ///< of the photons arriving from the sun
-    double entry_reflectance_;  ///< their Fresnel reflectance at the surface
-    vec3 entry_direction_;     ///< and their direction in the water
+    vec3 sun_direction_;                 ///< of the photons arriving from the sun
+    std::optional<SurfaceHit> sun_hit_;  ///< their hit, where it is the same for all (a flat surface)
 };
 
 }  // namespace secchi
