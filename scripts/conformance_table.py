@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Markdown table of canonical-runner results for each photon store, beside M93 Table 5 and
 the manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
-problems 1, 2 and 6, metres for problem 3. A store's name is its file's: conformance_<store>.json.
+problems 1, 2, 5 and 6, metres for problem 3 (the manual did not score problem 5: no DIRSIG value). A store's name is its file's: conformance_<store>.json.
 The first file sets the rows; later ones may hold some problems only.
 usage: conformance_table.py conformance_kdtree.json conformance_voi.json [conformance_voi-grid.json ...]"""
 import json
@@ -43,10 +43,12 @@ def main(paths):
     print("|---|---|---|---|---|" + "---|---|" * len(names) + "---|---|---|")
     for key, a in stores[0].items():
         entries = [store.get(key) for store in stores]
-        d = DIRSIG[(key[0], int(key[1]))][QTY[key[2]]]
+        dirsig = DIRSIG.get((key[0], int(key[1])))
+        d = "- | -" if dirsig is None else (
+            f"{dirsig[QTY[key[2]]]:.3g} | {100*(dirsig[QTY[key[2]]]-a['reference'])/a['reference']:+.1f}%")
         print(f"| {key[0]} | {key[1]:g} | {key[2]} | {a['reference']:.3g} | {100*a['spread']:.1f}% | "
               + " | ".join(cells(e) for e in entries)
-              + f" | {'/'.join(verdict(e) for e in entries)} | {d:.3g} | {100*(d-a['reference'])/a['reference']:+.1f}% |")
+              + f" | {'/'.join(verdict(e) for e in entries)} | {d} |")
 
 
 if __name__ == "__main__":
