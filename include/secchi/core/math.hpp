@@ -26,6 +26,19 @@ inline constexpr double two_pi = 2.0 * std::numbers::pi;
 inline constexpr double four_pi = 4.0 * std::numbers::pi;
 inline constexpr double deg = std::numbers::pi / 180.0;  ///< one degree in radians
 
+/// a b + c for doubles, rounded the same way wherever it is inlined: fused (one rounding) where
+/// the target has fused multiply-add, else two roundings. (With FMA the compiler contracts
+/// a b + c on its own, but not necessarily alike in every context a formula is inlined into;
+/// two code paths that must agree bit for bit, e.g. a tabulated and a per-photon form of one
+/// formula, spell their multiply-adds with this.)
+SECCHI_KERNEL double mul_add(double a, double b, double c) {
+#if defined(__FMA__)
+    return std::fma(a, b, c);
+#else
+    return a * b + c;
+#endif
+}
+
 /// a where m holds, else b: `m ? a : b`, for code written once for doubles and for SIMD
 /// vectors of them (std::experimental::simd, core/lanes.hpp), where it is where(m, b) = a.
 template <class Mask, class T>

@@ -23,6 +23,7 @@
 // How finely a smooth model (e.g. a Gaussian chlorophyll profile) must be sampled is the
 // caller's choice: linear interpolation errs by at most h^2 max|k''| / 8 for node spacing h.
 #include "secchi/core/error.hpp"
+#include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
 #include <algorithm>
 #include <array>
@@ -114,7 +115,7 @@ public:
         std::array<double, max_components> w{};
         const double b = weights(z, w);
         double sum = 0.0;
-        for (std::size_t i = 0; i < phases_.size(); ++i) sum += w[i] * f(i);
+        for (std::size_t i = 0; i < phases_.size(); ++i) sum = mul_add(w[i], f(i), sum);
         return b > 0.0 ? sum / b : 0.0;
     }
 
