@@ -150,7 +150,7 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     PlaneParallelConfig cfg;
     cfg.albedo = p.albedo;
     cfg.sun_zenith_deg = p.sun_zenith_deg;
-    cfg.slope_variance = p.slope_variance;
+    if (p.slope_variance > 0.0) cfg.slopes = FacetSlopes::isotropic(p.slope_variance);
     cfg.facets = parse_facets(cl.text("facets", "projected-area"));
     cfg.water_index = 1.34;
     auto& t = cfg.transport;

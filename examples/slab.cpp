@@ -12,7 +12,8 @@
 namespace {
 
 constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
-            --sun-zenith DEG --water-index N [--wind U | --slope-variance S2] [--facets projected-area|redraw]
+            --sun-zenith DEG --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
+            | --slope-variance S2] [--facets projected-area|redraw]
             [--bottom-depth TAU --bottom-albedo A]
             --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi|voi-grid
             [--radius R] [--steps K] --json FILE
@@ -26,9 +27,11 @@ Depths and lengths are optical (c = 1 /m). Defaults:
   --bottom-albedo 0 (with --bottom-depth: a Lambertian bottom)
   --wind U     (m/s; default: none, a flat surface) a wind-blown surface of Cox-Munk's
                isotropic slopes, sigma^2 = 0.003 + 0.00512 U (U = 7.23: M93 problem 5), or
-               --slope-variance S2 directly; --facets projected-area (default: facets met in
-               proportion to the area they show the photon, M93's weighting) or redraw (the
-               manual's DIRSIG)
+               --slope-variance S2 directly; --slopes cox-munk [--wind-azimuth DEG]: Cox and
+               Munk's anisotropic slopes instead, 0.00316 U along the wind and 0.003 +
+               0.00192 U across it, the wind blowing towards DEG (default 0: +x);
+               --facets projected-area (default: facets met in proportion to the area they
+               show the photon, M93's weighting) or redraw (the manual's DIRSIG)
   --tracer photon|lanes|lanes-float (default photon; lanes: photons in SIMD lanes, the same
                estimates, faster when built for AVX2 or better, e.g. -march=native;
                lanes-float: in float lanes, twice as many per vector)
@@ -74,15 +77,29 @@ void write_json(const secchi::PlaneParallelResult& r, const std::string& path) {
     j.end_object();
 }
 
+/// The surface's facet slopes: none (flat) without --wind or --slope-variance.
+secchi::FacetSlopes facet_slopes(const secchi::CommandLine& cl) {
+    using secchi::FacetSlopes;
+    if (cl.has("wind") && cl.has("slope-variance"))
+        secchi::reject("--slope-variance", cl.text("slope-variance"), "conflicts with --wind (give one of them)");
+    const std::string kind = cl.text("slopes", "isotropic");
+    if (kind != "isotropic" && kind != "cox-munk") secchi::reject("--slopes", kind, "must be isotropic or cox-munk");
+    if (kind == "cox-munk" && !cl.has("wind")) secchi::reject("--slopes", kind, "needs --wind");
+    if (cl.has("wind-azimuth") && kind != "cox-munk")
+        secchi::reject("--wind-azimuth", cl.text("wind-azimuth"), "needs --slopes cox-munk");
+    if (cl.has("slope-variance")) return FacetSlopes::isotropic(cl.number("slope-variance", 0));
+    if (!cl.has("wind")) return {};
+    const double wind = cl.number("wind", 0);
+    return kind == "cox-munk" ? FacetSlopes::cox_munk(wind, cl.number("wind-azimuth", 0.0))
+                              : FacetSlopes::isotropic_at_wind(wind);
+}
+
 secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     secchi::PlaneParallelConfig cfg;
     cfg.albedo = cl.number("albedo", 0.9);
     cfg.sun_zenith_deg = cl.number("sun-zenith", 60.0);
     cfg.water_index = cl.number("water-index", 1.34);
-    if (cl.has("wind") && cl.has("slope-variance"))
-        secchi::reject("--slope-variance", cl.text("slope-variance"), "conflicts with --wind (give one of them)");
-    if (cl.has("wind")) cfg.slope_variance = secchi::WindBlownSurface::from_wind_speed(cl.number("wind", 0)).slope_variance();
-    if (cl.has("slope-variance")) cfg.slope_variance = secchi::WindBlownSurface(cl.number("slope-variance", 0)).slope_variance();
+    cfg.slopes = facet_slopes(cl);
     cfg.facets = secchi::parse_facets(cl.text("facets", "projected-area"));
     if (cl.has("bottom-depth"))
         cfg.bottom = secchi::Bottom::lambertian_at(cl.number("bottom-depth", 0), cl.number("bottom-albedo", 0.0));
@@ -112,7 +129,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 int main(int argc, char** argv) {
     return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
-                                     {"phase", "albedo", "sun-zenith", "water-index", "wind", "slope-variance", "facets",
+                                     {"phase", "albedo", "sun-zenith", "water-index", "wind", "slope-variance", "slopes", "wind-azimuth", "facets",
                                       "bottom-depth", "bottom-albedo",
                                       "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                       "store", "radius", "steps", "omega", "ray-length", "ray-grid", "section-width",

@@ -77,33 +77,33 @@ TEST_CASE("Periodic wrap lands in [0, W)") {
 namespace {
 
 /// What a photon of direction d (moving down, from the air, or up, from the water) meets on
-/// average, by quadrature over the slope plane instead of by sampling: the facet slopes (t
-/// along the photon's horizontal travel, t_perp across it) have density p ~ exp(-(t^2 +
-/// t_perp^2) / sigma^2), each weighted by the area the facet shows the photon, mu + h t
-/// (projected_area), or by 1 where that is positive (redraw). Midpoint rule on 600 x 600
-/// cells over +-6 standard deviations. Returns the mean reflectance and the mean |z| of the
-/// transmitted direction (its cosine in the other medium) over the transmitted part.
+/// average, by quadrature over the slope plane instead of by sampling: the slopes (z_u along the
+/// wind, z_c across it) have density p ~ exp(-z_u^2 / (2 s_u^2) - z_c^2 / (2 s_c^2)), each facet
+/// weighted by the area it shows the photon, |d_z| + d_h . z (projected_area), or by 1 where
+/// that is positive (redraw). Midpoint rule on 600 x 600 cells over +-6 standard deviations.
+/// Returns the mean reflectance and the mean |z| of the transmitted direction (its cosine in
+/// the other medium) over the transmitted part.
 struct FacetAverages {
     double reflectance, transmitted_cosine;
 };
-FacetAverages facet_quadrature(const vec3& d, Side from, double variance, FacetSampling sampling) {
+FacetAverages facet_quadrature(const vec3& d, Side from, const FacetSlopes& slopes, FacetSampling sampling) {
     const double n1 = from == Side::air ? 1.0 : 1.34, n2 = from == Side::air ? 1.34 : 1.0;
-    const double mu = std::abs(d.z), h = std::hypot(d.x, d.y);
-    const double sd = std::sqrt(variance / 2.0), range = 6.0 * sd;
+    const vec3 down{d.x, d.y, std::abs(d.z)};  // the surface seen from the photon's side (mirrored in z from below)
+    const double wx = std::cos(slopes.wind_azimuth_deg * deg), wy = std::sin(slopes.wind_azimuth_deg * deg);
+    const double su = std::sqrt(slopes.upwind), sc = std::sqrt(slopes.crosswind);
     const int cells = 600;
-    const double step = 2.0 * range / cells;
     double mass = 0, reflected = 0, transmitted = 0, cosine = 0;
     for (int i = 0; i < cells; ++i)
         for (int j = 0; j < cells; ++j) {
-            const double t = -range + (i + 0.5) * step, tp = -range + (j + 0.5) * step;
-            const double seen = mu + h * t;
+            const double zu = su * (-6.0 + 12.0 * (i + 0.5) / cells), zc = sc * (-6.0 + 12.0 * (j + 0.5) / cells);
+            const double sx = zu * wx - zc * wy, sy = zu * wy + zc * wx;  // the slopes along x and y
+            const double seen = down.z + down.x * sx + down.y * sy;     // cos(omega) sec(theta_n)
             if (seen <= 0) continue;
-            const double w = std::exp(-(t * t + tp * tp) / variance) * (sampling == FacetSampling::projected_area ? seen : 1.0);
-            // The facet's normal facing the photon, in the frame where the photon travels along +x
-            // moving down; its cosine of incidence cos_i = seen / |(t, tp, 1)|.
-            const double norm = std::sqrt(1 + t * t + tp * tp), cos_i = seen / norm;
+            const double density = std::exp(-0.5 * (zu * zu / slopes.upwind + zc * zc / slopes.crosswind));
+            const double w = density * (sampling == FacetSampling::projected_area ? seen : 1.0);
+            const double norm = std::sqrt(1 + sx * sx + sy * sy), cos_i = seen / norm;
             const double r = fresnel_reflectance(cos_i, n1, n2);
-            const vec3 m{-t / norm, -tp / norm, -1.0 / norm}, down{h, 0.0, mu};
+            const vec3 m{-sx / norm, -sy / norm, -1.0 / norm};
             mass += w;
             reflected += w * r;
             if (r < 1) {
@@ -144,7 +144,9 @@ SampledAverages sampled_hits(const WindBlownSurface& surface, const vec3& d, Sid
 }  // namespace
 
 TEST_CASE("Wind-blown facets are met in proportion to the area they show the photon (M93's weighting, eq. 7.13)") {
-    // Grazing sun (problem 5's 80 deg), the sun overhead, and light from below at 30 and 60 deg.
+    // Grazing sun (problem 5's 80 deg) from two azimuths, the sun overhead, and light from below
+    // at 30 and 60 deg; M93's isotropic slopes and Cox and Munk's anisotropic ones at 10 m/s
+    // (the wind towards 30 deg), both facet choices.
     struct Case {
         vec3 d;
         Side from;
@@ -152,30 +154,35 @@ TEST_CASE("Wind-blown facets are met in proportion to the area they show the pho
     const double s80 = std::sin(80 * deg), c80 = std::cos(80 * deg);
     const std::vector<Case> cases = {
         {{s80, 0.0, c80}, Side::air},
+        {{0.5 * s80, std::sqrt(0.75) * s80, c80}, Side::air},
         {{0.0, 0.0, 1.0}, Side::air},
         {{0.3 * std::sin(30 * deg), std::sqrt(0.91) * std::sin(30 * deg), -std::cos(30 * deg)}, Side::water},
         {{std::sin(60 * deg), 0.0, -std::cos(60 * deg)}, Side::water},
     };
-    for (const FacetSampling sampling : {FacetSampling::projected_area, FacetSampling::redraw}) {
-        const WindBlownSurface surface(0.04, 1.34, sampling);
-        for (const auto& c : cases) {
-            const FacetAverages exact = facet_quadrature(c.d, c.from, 0.04, sampling);
-            const SampledAverages mc = sampled_hits(surface, c.d, c.from, 200000);
-            INFO("sampling " << static_cast<int>(sampling) << ", direction (" << c.d.x << ", " << c.d.y << ", " << c.d.z
-                             << "): reflectance " << mc.reflectance.value << " +- " << mc.reflectance.se << " vs "
-                             << exact.reflectance << "; transmitted cosine " << mc.transmitted_cosine.value << " +- "
-                             << mc.transmitted_cosine.se << " vs " << exact.transmitted_cosine);
-            CHECK(std::abs(mc.reflectance.value - exact.reflectance) <= 4 * mc.reflectance.se + 1e-6);
-            CHECK(std::abs(mc.transmitted_cosine.value - exact.transmitted_cosine) <= 4 * mc.transmitted_cosine.se + 1e-6);
+    for (const FacetSlopes& slopes : {FacetSlopes::isotropic(0.04), FacetSlopes::cox_munk(10.0, 30.0)})
+        for (const FacetSampling sampling : {FacetSampling::projected_area, FacetSampling::redraw}) {
+            const WindBlownSurface surface(slopes, 1.34, sampling);
+            for (const auto& c : cases) {
+                const FacetAverages exact = facet_quadrature(c.d, c.from, slopes, sampling);
+                const SampledAverages mc = sampled_hits(surface, c.d, c.from, 200000);
+                INFO("slopes " << slopes.upwind << ", " << slopes.crosswind << "; sampling " << static_cast<int>(sampling)
+                               << ", direction (" << c.d.x << ", " << c.d.y << ", " << c.d.z << "): reflectance "
+                               << mc.reflectance.value << " +- " << mc.reflectance.se << " vs " << exact.reflectance
+                               << "; transmitted cosine " << mc.transmitted_cosine.value << " +- "
+                               << mc.transmitted_cosine.se << " vs " << exact.transmitted_cosine);
+                CHECK(std::abs(mc.reflectance.value - exact.reflectance) <= 4 * mc.reflectance.se + 1e-6);
+                CHECK(std::abs(mc.transmitted_cosine.value - exact.transmitted_cosine) <=
+                      4 * mc.transmitted_cosine.se + 1e-6);
+            }
         }
-    }
 }
 
 TEST_CASE("A grazing sun's light meets the wind-blown surface with reflectance near 0.25, not the flat 0.35") {
     // Preisendorfer and Mobley (1986), as M93 quote them for problem 5: a capillary-wave surface
     // at U = 7.23 m/s reflects more than 0.22 of a sun at 80 deg; a flat one 0.350.
     const double s80 = std::sin(80 * deg), c80 = std::cos(80 * deg);
-    const FacetAverages wind = facet_quadrature({s80, 0.0, c80}, Side::air, 0.04, FacetSampling::projected_area);
+    const FacetAverages wind =
+        facet_quadrature({s80, 0.0, c80}, Side::air, FacetSlopes::isotropic(0.04), FacetSampling::projected_area);
     CHECK(fresnel_reflectance(c80, 1.0, 1.34) == Approx(0.3502).margin(1e-4));
     CHECK(wind.reflectance > 0.22);
     CHECK(wind.reflectance < 0.30);
@@ -208,7 +215,26 @@ TEST_CASE("Invalid wind-blown surfaces are rejected with the parameter's name") 
     REQUIRE_THROWS_WITH(WindBlownSurface(0.0), Catch::Contains("slope variance"));
     REQUIRE_THROWS_WITH(WindBlownSurface(NAN), Catch::Contains("slope variance"));
     REQUIRE_THROWS_WITH(WindBlownSurface(0.04, 0.5), Catch::Contains("water index"));
-    REQUIRE_THROWS_WITH(WindBlownSurface::from_wind_speed(-1.0), Catch::Contains("wind speed"));
+    REQUIRE_THROWS_WITH(WindBlownSurface(FacetSlopes{-0.01, 0.02, 0.0}), Catch::Contains("upwind slope variance"));
+    REQUIRE_THROWS_WITH(WindBlownSurface(FacetSlopes{0.01, NAN, 0.0}), Catch::Contains("crosswind slope variance"));
+    REQUIRE_THROWS_WITH(WindBlownSurface(FacetSlopes{0.0, 0.0, 0.0}), Catch::Contains("mean square slope"));
+    REQUIRE_THROWS_WITH(WindBlownSurface(FacetSlopes{0.01, 0.01, INFINITY}), Catch::Contains("wind azimuth"));
+    REQUIRE_THROWS_WITH(FacetSlopes::isotropic_at_wind(-1.0), Catch::Contains("wind speed"));
+    REQUIRE_THROWS_WITH(FacetSlopes::cox_munk(NAN, 0.0), Catch::Contains("wind speed"));
     REQUIRE_THROWS_WITH(parse_facets("weighted"), Catch::Contains("facets"));
-    CHECK(WindBlownSurface::from_wind_speed(7.23).slope_variance() == Approx(0.04).margin(2e-5));
+    CHECK(FacetSlopes::isotropic_at_wind(7.23).mean_square_slope() == Approx(0.04).margin(2e-5));
+    // Cox and Munk's fits: s_u^2 + s_c^2 = 0.003 + 0.00508 U, near their isotropic 0.003 + 0.00512 U.
+    CHECK(FacetSlopes::cox_munk(10.0, 0.0).mean_square_slope() == Approx(0.0538));
+}
+
+TEST_CASE("A calm axis (Cox and Munk at U = 0: no upwind slope) gives level facets along it, with either facet choice") {
+    for (const FacetSampling sampling : {FacetSampling::projected_area, FacetSampling::redraw}) {
+        const WindBlownSurface calm(FacetSlopes::cox_munk(0.0, 0.0), 1.34, sampling);
+        PhotonRng rng(9, 2);
+        for (const vec3 d : {vec3{1.0, 0.0, 0.0}, vec3{std::sin(80 * deg), 0.0, std::cos(80 * deg)}}) {
+            // Travel along the wind: every facet is level along x, so the reflection keeps d.x.
+            const SurfaceHit h = calm.hit(d, Side::air, rng);
+            CHECK(h.reflected.x == Approx(d.x).margin(1e-12));
+        }
+    }
 }

@@ -1,11 +1,12 @@
 #pragma once
 // A wind-blown air-water surface: capillary waves as a distribution of facet slopes, without
-// shadowing (canonical problem 5: M93 section 3; the manual 7.6.5, eq. 7.11-7.13). The slopes
-// (z_x, z_y) are isotropic Gaussian,
-//     p(z_x, z_y) = exp(-(z_x^2 + z_y^2) / sigma^2) / (pi sigma^2),
-// i.e. eq. 7.11 in the facet's polar angles, with sigma^2 = 0.003 + 0.00512 U for a wind speed
-// U in m/s (Cox and Munk 1954, the isotropic form; eq. 7.12). Each slope component has
-// variance sigma^2 / 2.
+// shadowing (Cox and Munk 1954; canonical problem 5: M93 section 3, the manual 7.6.5,
+// eq. 7.11-7.13). The slopes are Gaussian, their components along the wind (z_u) and across it
+// (z_c) independent with variances s_u^2 and s_c^2:
+//     p(z_u, z_c) = exp(-z_u^2 / (2 s_u^2) - z_c^2 / (2 s_c^2)) / (2 pi s_u s_c).
+// - Isotropic (M93's problem 5, eq. 7.11): s_u^2 = s_c^2 = sigma^2 / 2 with the mean square
+//   slope sigma^2 = 0.003 + 0.00512 U for a wind speed U in m/s (eq. 7.12).
+// - Cox and Munk's anisotropic clean-surface fit: s_u^2 = 0.00316 U, s_c^2 = 0.003 + 0.00192 U.
 //
 // Which facet a photon meets. A facet of slopes z covers sec(theta_n) of unit horizontal area;
 // a photon of direction d sees its projection cos(omega) sec(theta_n) = |d_z| + d_h . z (linear
@@ -35,28 +36,63 @@ inline FacetSampling parse_facets(const std::string& name) {
     reject("facets", name, "must be projected-area or redraw");
 }
 
+/// The variances of a surface's facet slopes along the wind and across it, and the wind's
+/// direction (the azimuth it blows towards, degrees from +x towards +y; only its axis matters).
+struct FacetSlopes {
+    double upwind = 0.0;     ///< s_u^2
+    double crosswind = 0.0;  ///< s_c^2
+    double wind_azimuth_deg = 0.0;
+
+    /// M93's isotropic slopes of mean square sigma^2 (eq. 7.11): sigma^2 / 2 along each axis.
+    static FacetSlopes isotropic(double mean_square_slope) {
+        require(std::isfinite(mean_square_slope) && mean_square_slope > 0.0, "slope variance", mean_square_slope,
+                "must be finite and > 0 (a flat surface is FlatSurface)");
+        return {mean_square_slope / 2.0, mean_square_slope / 2.0, 0.0};
+    }
+    /// M93's isotropic slopes at wind speed U (m/s): sigma^2 = 0.003 + 0.00512 U (eq. 7.12;
+    /// U = 7.23 m/s gives sigma = 0.2, problem 5).
+    static FacetSlopes isotropic_at_wind(double wind_m_per_s) {
+        return isotropic(0.003 + 0.00512 * valid_wind(wind_m_per_s));
+    }
+    /// Cox and Munk's (1954) anisotropic clean-surface slopes at wind speed U (m/s):
+    /// s_u^2 = 0.00316 U, s_c^2 = 0.003 + 0.00192 U, the wind blowing towards `azimuth_deg`.
+    static FacetSlopes cox_munk(double wind_m_per_s, double azimuth_deg) {
+        const double u = valid_wind(wind_m_per_s);
+        return {0.00316 * u, 0.003 + 0.00192 * u, azimuth_deg};
+    }
+    [[nodiscard]] double mean_square_slope() const { return upwind + crosswind; }
+
+private:
+    static double valid_wind(double u) {
+        require(std::isfinite(u) && u >= 0.0, "wind speed (m/s)", u, "must be >= 0");
+        return u;
+    }
+};
+
 class WindBlownSurface {
 public:
-    /// slope_variance: sigma^2 of eq. 7.12 (> 0; canonical problem 5: 0.04).
-    explicit WindBlownSurface(double slope_variance, double water_index = 1.34,
+    explicit WindBlownSurface(FacetSlopes slopes, double water_index = 1.34,
                               FacetSampling sampling = FacetSampling::projected_area, double air_index = 1.0)
-        : variance_(slope_variance), sigma_(std::sqrt(slope_variance)), n_water_(water_index), n_air_(air_index),
+        : slopes_(slopes), wind_x_(std::cos(slopes.wind_azimuth_deg * deg)),
+          wind_y_(std::sin(slopes.wind_azimuth_deg * deg)), n_water_(water_index), n_air_(air_index),
           sampling_(sampling) {
-        require(std::isfinite(slope_variance) && slope_variance > 0.0, "slope variance", slope_variance,
-                "must be finite and > 0 (a flat surface is FlatSurface)");
+        require(std::isfinite(slopes.upwind) && slopes.upwind >= 0.0, "upwind slope variance", slopes.upwind,
+                "must be finite and >= 0");
+        require(std::isfinite(slopes.crosswind) && slopes.crosswind >= 0.0, "crosswind slope variance",
+                slopes.crosswind, "must be finite and >= 0");
+        require(slopes.mean_square_slope() > 0.0, "mean square slope", slopes.mean_square_slope(),
+                "must be > 0 (a flat surface is FlatSurface)");
+        require(std::isfinite(slopes.wind_azimuth_deg), "wind azimuth (deg)", slopes.wind_azimuth_deg, "must be finite");
         require(std::isfinite(water_index) && water_index >= 1.0, "water index", water_index, "must be >= 1");
         require(std::isfinite(air_index) && air_index >= 1.0, "air index", air_index, "must be >= 1");
     }
+    /// M93's isotropic surface of mean square slope sigma^2 (eq. 7.11; problem 5: 0.04).
+    explicit WindBlownSurface(double mean_square_slope, double water_index = 1.34,
+                              FacetSampling sampling = FacetSampling::projected_area)
+        : WindBlownSurface(FacetSlopes::isotropic(mean_square_slope), water_index, sampling) {}
 
-    /// The surface of Cox and Munk's isotropic slopes at wind speed U (m/s): sigma^2 = 0.003 +
-    /// 0.00512 U (eq. 7.12; U = 7.23 m/s gives sigma = 0.2, problem 5).
-    static WindBlownSurface from_wind_speed(double wind_m_per_s, double water_index = 1.34,
-                                            FacetSampling sampling = FacetSampling::projected_area) {
-        require(std::isfinite(wind_m_per_s) && wind_m_per_s >= 0.0, "wind speed (m/s)", wind_m_per_s, "must be >= 0");
-        return WindBlownSurface(0.003 + 0.00512 * wind_m_per_s, water_index, sampling);
-    }
-
-    [[nodiscard]] double slope_variance() const { return variance_; }
+    [[nodiscard]] const FacetSlopes& slopes() const { return slopes_; }
+    [[nodiscard]] double slope_variance() const { return slopes_.mean_square_slope(); }
     [[nodiscard]] double water_index() const { return n_water_; }
     [[nodiscard]] FacetSampling sampling() const { return sampling_; }
 
@@ -78,48 +114,61 @@ public:
 
 private:
     /// The unit normal, facing the photon, of a facet met by a photon moving down along d
-    /// (d.z >= 0): slopes t along the photon's horizontal travel and t_perp across it.
+    /// (d.z >= 0): the slope t along the photon's horizontal travel e, then the slope q across
+    /// it (along e_perp = z x e) given t.
     vec3 facet_facing(const vec3& d, PhotonRng& rng) const {
         const double mu = d.z, h = std::hypot(d.x, d.y);
         const double ex = h > 0.0 ? d.x / h : 1.0, ey = h > 0.0 ? d.y / h : 0.0;
-        const double t = sampling_ == FacetSampling::projected_area ? seen_slope(mu, h, rng) : redrawn_slope(mu, h, rng);
-        const double t_perp = slope_component(rng);
-        const double sx = t * ex - t_perp * ey, sy = t * ey + t_perp * ex;
+        // t = a z_u + b z_c and q = -b z_u + a z_c, with a = e . wind, b = e . (z x wind):
+        // a bivariate Gaussian of these variances and covariance.
+        const double a = ex * wind_x_ + ey * wind_y_, b = ey * wind_x_ - ex * wind_y_;
+        const double vu = slopes_.upwind, vc = slopes_.crosswind;
+        const double var_t = vu * a * a + vc * b * b, var_q = vu * b * b + vc * a * a, cov = a * b * (vc - vu);
+        const double sd_t = std::sqrt(var_t);
+        const double t = sampling_ == FacetSampling::projected_area ? seen_slope(mu, h, sd_t, rng)
+                                                                   : redrawn_slope(mu, h, sd_t, rng);
+        const double q_mean = var_t > 0.0 ? t * cov / var_t : 0.0;
+        const double q_sd = std::sqrt(std::max(0.0, var_t > 0.0 ? var_q - cov * cov / var_t : var_q));
+        const double q = q_mean + q_sd * standard_normal(rng);
+        const double sx = t * ex - q * ey, sy = t * ey + q * ex;
         // Surface height rising by s per unit length has the upward normal (-s_x, -s_y, 1)/N in
         // z-up axes: (-s_x, -s_y, -1)/N with z positive down. It faces the photon when
         // mu + h t > 0, the projected area above.
         return glm::normalize(vec3{-sx, -sy, -1.0});
     }
 
-    /// One slope component, N(0, sigma^2 / 2) (Box-Muller).
-    double slope_component(PhotonRng& rng) const {
+    /// A standard normal deviate (Box-Muller).
+    static double standard_normal(PhotonRng& rng) {
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        return sigma_ * std::sqrt(-std::log(u1)) * std::cos(two_pi * u2);
+        return std::sqrt(-2.0 * std::log(u1)) * std::cos(two_pi * u2);
     }
 
-    /// The slope along the photon's travel with density f(t) ~ max(0, mu + h t) exp(-t^2 / sigma^2),
-    /// by rejection from g(t) = (mu + h max(t, 0)) exp(-t^2 / sigma^2) >= f: a mixture of the
-    /// Gaussian (mass mu sigma sqrt(pi)) and h t exp(-t^2 / sigma^2) on t > 0 (mass h sigma^2 / 2,
-    /// t = sigma sqrt(-ln u)); a draw t < 0 is kept with probability (mu + h t) / mu = f / g.
+    /// The slope along the photon's travel with density f(t) ~ max(0, mu + h t) exp(-t^2 / (2 sd^2)),
+    /// by rejection from g(t) = (mu + h max(t, 0)) exp(-t^2 / (2 sd^2)) >= f: a mixture of the
+    /// Gaussian (mass mu sd sqrt(2 pi)) and h t exp(-t^2 / (2 sd^2)) on t > 0 (mass h sd^2,
+    /// t = sd sqrt(-2 ln u)); a draw t < 0 is kept with probability (mu + h t) / mu = f / g.
     /// At least half the draws are kept.
-    double seen_slope(double mu, double h, PhotonRng& rng) const {
-        const double gauss = mu * std::sqrt(pi), ramp = 0.5 * h * sigma_;  // the masses / sigma
+    static double seen_slope(double mu, double h, double sd, PhotonRng& rng) {
+        const double gauss = mu * std::sqrt(two_pi), ramp = h * sd;  // the masses / sd
         while (true) {
-            if (rng.uniform() * (gauss + ramp) >= gauss) return sigma_ * std::sqrt(-std::log(rng.uniform()));
-            const double t = slope_component(rng);
+            if (rng.uniform() * (gauss + ramp) >= gauss) return sd * std::sqrt(-2.0 * std::log(rng.uniform()));
+            const double t = sd * standard_normal(rng);
             if (t >= 0.0 || rng.uniform() * mu < mu + h * t) return t;
         }
     }
 
     /// The manual's facet: from p alone, drawn again while it faces away (mu + h t <= 0).
-    double redrawn_slope(double mu, double h, PhotonRng& rng) const {
+    static double redrawn_slope(double mu, double h, double sd, PhotonRng& rng) {
+        if (sd == 0.0) return 0.0;  // no slope along the travel (a calm axis): only level facets
         while (true) {
-            const double t = slope_component(rng);
+            const double t = sd * standard_normal(rng);
             if (mu + h * t > 0.0) return t;
         }
     }
 
-    double variance_, sigma_, n_water_, n_air_;
+    FacetSlopes slopes_;
+    double wind_x_, wind_y_;  ///< the wind's unit direction
+    double n_water_, n_air_;
     FacetSampling sampling_;
 };
 

@@ -64,7 +64,7 @@ struct PlaneParallelConfig {
     double albedo = 0.9;           ///< w0 = b / c
     double sun_zenith_deg = 60.0;
     double water_index = 1.34;     ///< 1.0 = no interface
-    double slope_variance = 0.0;   ///< > 0: a wind-blown surface of this facet slope variance sigma^2 (eq. 7.12); 0: flat
+    FacetSlopes slopes;            ///< a wind-blown surface's facet slopes (scene/wind_blown_surface.hpp); all 0: flat
     FacetSampling facets = FacetSampling::projected_area;  ///< how a wind-blown surface's facets are met
     Bottom bottom;                 ///< depth in metres
     TransportSettings transport;   ///< photons, map photons, seed, threads, batches, depths, absorption
@@ -123,14 +123,11 @@ TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, co
     return PhotonTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport).run();
 }
 
-/// The first pass through the surface cfg describes: flat, or wind-blown (slope_variance > 0).
+/// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.
 template <PhotonRecord Record, Medium M>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const PlaneParallelConfig& cfg) {
-    require(std::isfinite(cfg.slope_variance) && cfg.slope_variance >= 0.0, "slope variance", cfg.slope_variance,
-            "must be >= 0 (0: a flat surface)");
-    if (cfg.slope_variance > 0.0)
-        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slope_variance, cfg.water_index, cfg.facets),
-                                          cfg);
+    if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
+        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, cfg.water_index, cfg.facets), cfg);
     return first_pass_through<Record>(medium, slab, FlatSurface(cfg.water_index), cfg);
 }
 
