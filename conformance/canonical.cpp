@@ -38,7 +38,8 @@ problem 5 as 2a with the sun at 80 deg under a wind-blown surface of slope varia
 problem 6 as 2b over a Lambertian bottom of reflectance 0.5 at tau 5) and scores them against
 M93 Table 5. Problem 5's photons meet the surface's facets in proportion to the area each
 shows them (M93's weighting, eq. 7.13 of the manual); --facets redraw meets them as the
-manual's DIRSIG did (7.6.5: facets facing away drawn again, no projected area). Problem 3's medium is composed at compile time (conformance/problem3.hpp), or
+manual's DIRSIG did (7.6.5: facets facing away drawn again, no projected area).
+Problem 3's medium is composed at compile time (conformance/problem3.hpp), or
 read from a material file with --material (e.g. examples/materials/canonical_problem3.mat;
 in a DIRSIG file of MATERIAL_ENTRY sections, the entry --material-entry names by ID or NAME,
 by default the only one with BULK_PROPERTIES); its IOP profile (z, a, b, c, w0 every metre

@@ -129,8 +129,8 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 int main(int argc, char** argv) {
     return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
-                                     {"phase", "albedo", "sun-zenith", "water-index", "wind", "slope-variance", "slopes", "wind-azimuth", "facets",
-                                      "bottom-depth", "bottom-albedo",
+                                     {"phase", "albedo", "sun-zenith", "water-index", "wind", "slope-variance", "slopes",
+                                      "wind-azimuth", "facets", "bottom-depth", "bottom-albedo",
                                       "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                       "store", "radius", "steps", "omega", "ray-length", "ray-grid", "section-width",
                                       "tracer", "json"});

@@ -92,7 +92,6 @@ public:
         : WindBlownSurface(FacetSlopes::isotropic(mean_square_slope), water_index, sampling) {}
 
     [[nodiscard]] const FacetSlopes& slopes() const { return slopes_; }
-    [[nodiscard]] double slope_variance() const { return slopes_.mean_square_slope(); }
     [[nodiscard]] double water_index() const { return n_water_; }
     [[nodiscard]] FacetSampling sampling() const { return sampling_; }
 

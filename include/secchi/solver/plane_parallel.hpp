@@ -1,9 +1,9 @@
 #pragma once
 // A plane-parallel problem end to end (the canonical problems' set-up, M93 section 3):
-// homogeneous water of attenuation c and albedo w0 (problems 1, 2, 6), or depth-varying water
-// (problem 3, solve_stratified), under a collimated sun and a black sky,
-// a flat or wind-blown surface (problem 5), optional bottom. First pass: photons traced, irradiance detectors tallied,
-// the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
+// homogeneous water of attenuation c and albedo w0 (problems 1, 2, 5, 6), or depth-varying water
+// (problem 3, solve_stratified), under a collimated sun and a black sky, a flat or wind-blown
+// surface (problem 5), optional bottom. First pass: photons traced, irradiance detectors
+// tallied, the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
 // (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
 #include "secchi/estimate/path_radiance.hpp"
