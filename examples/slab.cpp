@@ -12,13 +12,15 @@
 namespace {
 
 constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
-            --sun-zenith DEG --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
+            --sun-zenith DEG [--sky E] --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
             | --slope-variance S2] [--facets projected-area|redraw]
             [--bottom-depth TAU --bottom-albedo A]
             --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi|voi-grid
             [--radius R] [--steps K] --json FILE
 Depths and lengths are optical (c = 1 /m). Defaults:
   --phase petzold  --albedo 0.9  --sun-zenith 60  --water-index 1.34 (1.0: no interface)
+  --sky 0 (a uniform sky of this downward plane irradiance beside the sun's E_perp = 1;
+           0: a black sky, as in M93's problems)
   --depths 1,5,10  --photons 1000000  --map-photons min(photons, 2000000)  --seed 1
   --threads 1  --batches 32  --store voi  --radius 0.05  --steps 64  --omega 0.005 (sr)
   --ray-length 8  --ray-grid 10 (10 x 10 vertical rays per depth)  --section-width 1
@@ -98,6 +100,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     secchi::PlaneParallelConfig cfg;
     cfg.albedo = cl.number("albedo", 0.9);
     cfg.sun_zenith_deg = cl.number("sun-zenith", 60.0);
+    cfg.sky_irradiance = cl.number("sky", 0.0);
     cfg.water_index = cl.number("water-index", 1.34);
     cfg.slopes = facet_slopes(cl);
     cfg.facets = secchi::parse_facets(cl.text("facets", "projected-area"));
@@ -129,7 +132,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 int main(int argc, char** argv) {
     return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
-                                     {"phase", "albedo", "sun-zenith", "water-index", "wind", "slope-variance", "slopes",
+                                     {"phase", "albedo", "sun-zenith", "sky", "water-index", "wind", "slope-variance", "slopes",
                                       "wind-azimuth", "facets", "bottom-depth", "bottom-albedo",
                                       "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                       "store", "radius", "steps", "omega", "ray-length", "ray-grid", "section-width",

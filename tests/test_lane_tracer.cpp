@@ -452,8 +452,9 @@ void check_agrees_with_photon_tracer() {
     testing::check_agree(events_per_photon(a), events_per_photon(b), "Petzold stored events per photon");
 }
 
-/// `Tracer` against PhotonTracer under a wind-blown surface with a grazing sun (the surface's
-/// hits go through PhotonTracer's per-photon functions lane by lane).
+/// `Tracer` against PhotonTracer under a wind-blown surface with a grazing sun and a uniform sky
+/// (the surface's hits and the launches go through PhotonTracer's per-photon functions lane by
+/// lane).
 template <template <class, class, class> class Tracer>
 void check_agrees_under_a_wind_blown_surface() {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
@@ -464,8 +465,9 @@ void check_agrees_under_a_wind_blown_surface() {
     s.depths = {0.0, 1.0, 3.0};
     const WindBlownSurface surface(0.04);
     const CollimatedSun sun(80.0);
-    const auto a = PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, sun, s).run();
-    const auto b = Tracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, sun, s).run();
+    const UniformSky sky(0.1);
+    const auto a = PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, sun, s, sky).run();
+    const auto b = Tracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, sun, s, sky).run();
     for (std::size_t i = 0; i < s.depths.size(); ++i)
         for (int k = 0; k < 4; ++k) testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance");
     testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
@@ -491,7 +493,7 @@ TEST_CASE("LaneTracer in float lanes and PhotonTracer agree within their standar
 template <class M, class Record, class Surface>
 using DoubleLaneTracer = LaneTracer<M, Record, double, Surface>;
 
-TEST_CASE("LaneTracer and PhotonTracer agree under a wind-blown surface, in double and float lanes") {
+TEST_CASE("LaneTracer and PhotonTracer agree under a wind-blown surface and a sky, in double and float lanes") {
     check_agrees_under_a_wind_blown_surface<DoubleLaneTracer>();
     check_agrees_under_a_wind_blown_surface<FloatLaneTracer>();
 }

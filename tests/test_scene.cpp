@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include "secchi/core/stats.hpp"
 #include "secchi/scene/flat_surface.hpp"
+#include "secchi/scene/sky.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
@@ -209,6 +210,27 @@ TEST_CASE("A hit's directions are unit vectors on the right sides of its facet, 
     CHECK(h.reflectance == flat.reflectance_from_air(sun));
     CHECK(h.transmitted == flat.transmit_into_water(sun));
     CHECK(h.reflected == FlatSurface::reflect(sun));
+}
+
+TEST_CASE("A uniform sky's photons come with density cos(theta) / pi, and a bad sky is rejected by name") {
+    // Mean cos(theta) = 2/3 and mean cos^2(theta) = 1/2 for the density cos(theta)/pi on the hemisphere.
+    PhotonRng rng(4, 0);
+    const int n = 100000;
+    double m1 = 0, m2 = 0;
+    for (int i = 0; i < n; ++i) {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        const vec3 d = UniformSky::direction(u1, u2);
+        REQUIRE(glm::length(d) == Approx(1.0).margin(1e-12));
+        REQUIRE(d.z > 0.0);
+        m1 += d.z, m2 += d.z * d.z;
+    }
+    m1 /= n, m2 /= n;
+    // SE of the mean of mu: sqrt((1/2 - 4/9) / n) = 7.5e-4 at n = 1e5.
+    CHECK(std::abs(m1 - 2.0 / 3.0) < 4 * std::sqrt((0.5 - 4.0 / 9.0) / n));
+    CHECK(UniformSky(0.5).radiance() == Approx(0.5 / pi));
+    REQUIRE_THROWS_WITH(UniformSky(-0.1), Catch::Contains("sky irradiance"));
+    REQUIRE_THROWS_WITH(UniformSky(NAN), Catch::Contains("sky irradiance"));
+    REQUIRE_THROWS_WITH(CollimatedSun(60.0, 0.0, -1.0), Catch::Contains("E_perp"));
 }
 
 TEST_CASE("Invalid wind-blown surfaces are rejected with the parameter's name") {

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/scene/sky.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
 #include "transport_checks.hpp"
@@ -130,6 +131,58 @@ TEST_CASE("Under a wind-blown surface the absorption modes agree within their st
 
 TEST_CASE("Under a wind-blown surface results are bit-identical for 1 and 2 threads") {
     testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, run_wind_blown);
+}
+
+namespace {
+/// Photons from the sun and a uniform sky through non-scattering water (w0 = 0, c = 1 /m), in
+/// continuous absorption (each plane crossing carries exp(-c z / mu)).
+TransportResult<CompactRecord> run_sun_and_sky(double e_perp, double sky, double n_water, std::vector<double> depths) {
+    TransportSettings s;
+    s.photons = 200000;
+    s.depths = std::move(depths);
+    s.absorption = AbsorptionMode::continuous;
+    const auto medium = HomogeneousWater<IsotropicPhase>::from_albedo(1.0, 0.0, IsotropicPhase{});
+    return PhotonTracer<HomogeneousWater<IsotropicPhase>, CompactRecord>(
+               medium, Slab(1.0, Bottom{}, 30.0), FlatSurface(n_water), CollimatedSun(60.0, 0.0, e_perp), s,
+               UniformSky(sky))
+        .run();
+}
+/// integral_0^1 f(mu) dmu by Simpson's rule on 2000 intervals.
+template <class F>
+double integrate_unit(F&& f) {
+    const int n = 2000;
+    double sum = f(0.0) + f(1.0);
+    for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * f(static_cast<double>(i) / n);
+    return sum / (3.0 * n);
+}
+}  // namespace
+
+TEST_CASE("A uniform sky through no interface: Ed(z) = 2 E_sky E_3(c z)") {
+    // Radiance L = E_sky / pi from every downward direction: Ed(z) = 2 pi L int_0^1 mu e^(-cz/mu) dmu
+    // = 2 E_sky E_3(cz), E_3 the exponential integral (E_3(0) = 1/2).
+    const double e_sky = 0.7;
+    const std::vector<double> depths = {0.0, 0.5, 2.0};
+    const auto r = run_sun_and_sky(0.0, e_sky, 1.0, depths);
+    // Depth 0: every photon crosses with weight 1, exactly E_sky (no spread, no SE).
+    CHECK(r.irradiance[0][Ed].value == Approx(e_sky).epsilon(1e-12));
+    for (std::size_t i = 1; i < depths.size(); ++i) {
+        const double z = depths[i];
+        const double e3 = integrate_unit([z](double mu) { return mu > 0 ? mu * std::exp(-z / mu) : 0.0; });
+        CHECK(within_se(r.irradiance[i][Ed], 2.0 * e_sky * e3));
+    }
+}
+
+TEST_CASE("Sun and uniform sky through a flat surface: Ed(0-) = E_sun (1 - R(60 deg)) + E_sky (1 - r_diffuse)") {
+    // The sky's light is reflected with r_diffuse = int_0^1 R(mu) 2 mu dmu (its cosine-weighted
+    // directions), about 0.066 for n = 1.34 (Mobley 1994, sec. 4.3).
+    const double r_diffuse = integrate_unit([](double mu) { return fresnel_reflectance(mu, 1.0, 1.34) * 2.0 * mu; });
+    CHECK(r_diffuse > 0.06);
+    CHECK(r_diffuse < 0.07);
+    const double e_perp = 1.0, e_sky = 0.3;
+    const auto r = run_sun_and_sky(e_perp, e_sky, 1.34, {0.0});
+    const double sun = 0.5 * e_perp * (1.0 - fresnel_reflectance(0.5, 1.0, 1.34));
+    CHECK(within_se(r.irradiance[0][Ed], sun + e_sky * (1.0 - r_diffuse)));
+    CHECK(std::abs(r.ledger.imbalance()) < 1e-12);
 }
 
 TEST_CASE("Beer-Lambert with continuous absorption is exact per photon") {
@@ -343,6 +396,10 @@ TEST_CASE("Invalid transport settings are rejected by name") {
     REQUIRE_THROWS_WITH(tracer(), Catch::Contains("batches = 65"));
     s.batches = 64;
     REQUIRE_NOTHROW(tracer());
+    // No sun (E_perp = 0) and a black sky: nothing shines.
+    REQUIRE_THROWS_WITH((PhotonTracer<HomogeneousWater<IsotropicPhase>, CompactRecord>(
+                            water, Slab(1.0, Bottom{}, 10.0), FlatSurface(1.34), CollimatedSun(0.0, 0.0, 0.0), s)),
+                        Catch::Contains("incident irradiance"));
 }
 
 TEST_CASE("A detector on a Lambertian bottom sees Eu = A Ed (exact with weighted photons)") {

@@ -12,7 +12,7 @@ public:
         : zenith_(zenith_deg * deg), azimuth_(azimuth_deg * deg), e_perp_(e_perp) {
         require(std::isfinite(zenith_deg) && zenith_deg >= 0.0 && zenith_deg < 90.0, "sun zenith (deg)", zenith_deg,
                 "must be in [0, 90)");
-        require(std::isfinite(e_perp) && e_perp > 0.0, "E_perp", e_perp, "must be > 0");
+        require(std::isfinite(e_perp) && e_perp >= 0.0, "E_perp", e_perp, "must be >= 0 (0: no sun, a sky alone)");
     }
     /// Direction of travel of the sun's photons (z positive down).
     [[nodiscard]] vec3 direction() const {

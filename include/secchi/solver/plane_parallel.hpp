@@ -1,9 +1,9 @@
 #pragma once
 // A plane-parallel problem end to end (the canonical problems' set-up, M93 section 3):
 // homogeneous water of attenuation c and albedo w0 (problems 1, 2, 5, 6), or depth-varying water
-// (problem 3, solve_stratified), under a collimated sun and a black sky, a flat or wind-blown
-// surface (problem 5), optional bottom. First pass: photons traced, irradiance detectors
-// tallied, the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
+// (problem 3, solve_stratified), under a collimated sun and a black or uniform sky, a flat or
+// wind-blown surface (problem 5), optional bottom. First pass: photons traced, irradiance
+// detectors tallied, the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
 // (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
 #include "secchi/estimate/path_radiance.hpp"
@@ -63,6 +63,7 @@ struct PlaneParallelConfig {
     double attenuation = 1.0;      ///< c (1/m); depths are in metres, so tau = c z
     double albedo = 0.9;           ///< w0 = b / c
     double sun_zenith_deg = 60.0;
+    double sky_irradiance = 0.0;   ///< a uniform sky's plane irradiance beside the sun's E_perp = 1 (0: black)
     double water_index = 1.34;     ///< 1.0 = no interface
     FacetSlopes slopes;            ///< a wind-blown surface's facet slopes (scene/wind_blown_surface.hpp); all 0: flat
     FacetSampling facets = FacetSampling::projected_area;  ///< how a wind-blown surface's facets are met
@@ -110,17 +111,18 @@ template <PhotonRecord Record, Medium M, AirWaterSurface Surface>
 TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, const Surface& surface,
                                            const PlaneParallelConfig& cfg) {
     const CollimatedSun sun(cfg.sun_zenith_deg);
+    const UniformSky sky(cfg.sky_irradiance);
 #if SECCHI_HAS_LANES
     if constexpr (depth_independent<M>) {
         if (cfg.tracer == TracerKind::lanes)
-            return LaneTracer<M, Record, double, Surface>(medium, slab, surface, sun, cfg.transport).run();
+            return LaneTracer<M, Record, double, Surface>(medium, slab, surface, sun, cfg.transport, sky).run();
         if (cfg.tracer == TracerKind::float_lanes)
-            return FloatLaneTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport).run();
+            return FloatLaneTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport, sky).run();
     }
 #endif
     require(cfg.tracer == TracerKind::photon, "tracer", cfg.tracer == TracerKind::lanes ? "lanes" : "lanes-float",
             "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
-    return PhotonTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport).run();
+    return PhotonTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport, sky).run();
 }
 
 /// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.

@@ -71,8 +71,8 @@ class LaneTracer : private PhotonTracer<M, Record, Surface> {
 
 public:
     LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
-               TransportSettings settings)
-        : Base(medium, slab, surface, sun, supported(std::move(settings))),
+               TransportSettings settings, UniformSky sky = UniformSky{})
+        : Base(medium, slab, surface, sun, supported(std::move(settings)), sky),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(static_cast<Real>(
               medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0))) {}

@@ -1,5 +1,6 @@
 #pragma once
-// The first pass (manual 3.3): equal-flux photons from a collimated sun, refracted through
+// The first pass (manual 3.3): equal-flux photons from a collimated sun (and a uniform sky, if
+// it is lit), refracted through
 // the surface (a policy: flat, or wind-blown facets; scene/surface.hpp), exponential free paths
 // (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage of scattering events in
 // the photon map (3.3.6), Fresnel reflection and refraction at the surface from below, a
@@ -14,6 +15,7 @@
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/scene/flat_surface.hpp"
+#include "secchi/scene/sky.hpp"
 #include "secchi/scene/surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
@@ -58,9 +60,12 @@ struct BlockResult {
 template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface>
 class PhotonTracer {
 public:
+    /// `sky`: a uniform sky beside the sun (black by default). The photons share the incident
+    /// plane irradiance: a photon comes from the sky with probability E_sky / (E_sun + E_sky).
     PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
-                 TransportSettings settings)
-        : medium_(medium), slab_(slab), surface_(surface), sun_(sun), s_(validated(std::move(settings))),
+                 TransportSettings settings, UniformSky sky = UniformSky{})
+        : medium_(medium), slab_(slab), surface_(surface), sun_(sun), sky_(sky),
+          sky_share_(sky_share(sun, sky)), s_(validated(std::move(settings))),
           layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
           continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(sun.direction()),
@@ -134,12 +139,26 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         }
     }
 
-    /// A photon from the sun at a uniform point of the section, through the surface (its
-    /// first draws from `rng`). False if it does not enter the water.
+    /// A photon from the sun (or the sky) at a uniform point of the section, through the
+    /// surface (its first draws from `rng`; a black sky draws none). False if it does not
+    /// enter the water.
     bool launch(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
         p = PhotonState{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_direction_, 1.0, 0};
         ledger.incident += 1.0;
+        if (sky_share_ > 0.0 && rng.uniform() < sky_share_) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            p.dir = UniformSky::direction(u1, u2);
+            return cross_surface(p, rng, Side::air, surface_.hit(p.dir, Side::air, rng), ledger.surface_reflected,
+                                 ledger);
+        }
         return enter_water(p, rng, ledger);
+    }
+
+    /// The sky's share of the incident plane irradiance (0 for a black sky).
+    static double sky_share(const CollimatedSun& sun, const UniformSky& sky) {
+        const double total = sun.plane_irradiance() + sky.plane_irradiance();
+        require(total > 0.0, "incident irradiance", total, "must be > 0: the sun or the sky must shine");
+        return sky.plane_irradiance() / total;
     }
 
     /// The map batch of photon `index`, if its events are stored.
@@ -384,7 +403,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             batch_photons[blk.batch] += static_cast<double>(blk.end - blk.begin);
             r.ledger += res.ledger;
         }
-        const double ed0 = sun_.plane_irradiance();
+        const double ed0 = sun_.plane_irradiance() + sky_.plane_irradiance();  // Ed(0+)
         std::vector<double> values(s_.batches);
         auto estimate = [&](auto&& value_of_batch) {
             for (unsigned b = 0; b < s_.batches; ++b) values[b] = ed0 * value_of_batch(b) / batch_photons[b];
@@ -412,6 +431,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     Slab slab_;
     Surface surface_;
     CollimatedSun sun_;
+    UniformSky sky_;
+    double sky_share_;  ///< the probability that a photon comes from the sky
     TransportSettings s_;
     IrradianceLayers layers_;
     bool continuous_, importance_on_;
