@@ -1,11 +1,10 @@
 #pragma once
 // The first pass (manual 3.3): equal-flux photons from a collimated sun (and a uniform sky, if
-// it is lit), refracted through
-// the surface (a policy: flat, or wind-blown facets; scene/surface.hpp), exponential free paths
-// (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage of scattering events in
-// the photon map (3.3.6), Fresnel reflection and refraction at the surface from below, a
-// Lambertian or transparent bottom, and irradiance detectors. Every photon's weight ends in
-// the energy ledger.
+// it is lit), refracted through the surface (a policy: flat, or wind-blown facets;
+// scene/surface.hpp), exponential free paths (eq. 3.17), absorption or scattering by the
+// albedo (3.3.5), storage of scattering events in the photon map (3.3.6), Fresnel reflection
+// and refraction at the surface from below, a Lambertian or transparent bottom, and irradiance
+// detectors. Every photon's weight ends in the energy ledger.
 //
 // Parallel and reproducible: photon i draws only from its own counter-based stream
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
