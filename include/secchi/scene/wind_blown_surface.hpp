@@ -20,6 +20,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/scene/fresnel.hpp"
 #include "secchi/scene/surface.hpp"
+#include <algorithm>
 #include <cmath>
 #include <string>
 

@@ -144,13 +144,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     bool launch(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
         p = PhotonState{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_direction_, 1.0, 0};
         ledger.incident += 1.0;
-        if (sky_share_ > 0.0 && rng.uniform() < sky_share_) {
+        const bool from_sky = sky_share_ > 0.0 && rng.uniform() < sky_share_;
+        if (from_sky) {
             const double u1 = rng.uniform(), u2 = rng.uniform();
             p.dir = UniformSky::direction(u1, u2);
-            return cross_surface(p, rng, Side::air, surface_.hit(p.dir, Side::air, rng), ledger.surface_reflected,
-                                 ledger);
         }
-        return enter_water(p, rng, ledger);
+        const SurfaceHit h = from_sky ? surface_.hit(p.dir, Side::air, rng) : sun_hit(rng);
+        return cross_surface(p, rng, Side::air, h, ledger.surface_reflected, ledger);  // lost light: surface_reflected
     }
 
     /// The sky's share of the incident plane irradiance (0 for a black sky).
@@ -219,12 +219,6 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         }
         ledger.roulette_killed += p.w;
         return false;
-    }
-
-    /// A photon from the sun through the surface. False if the photon is lost (its weight
-    /// then is in the ledger's surface_reflected).
-    bool enter_water(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        return cross_surface(p, rng, Side::air, sun_hit(rng), ledger.surface_reflected, ledger);
     }
 
     /// At the surface from below: reflect (Fresnel, total internal reflection) or escape.
