@@ -4,10 +4,16 @@
 // (in_cylinder, store.hpp), reported in order, with in_cylinder's t and distance2 exactly.
 // A store's walk queues the ranges to scan (or, when a whole range lies inside the
 // cylinder, to report without testing: "bulk accept"); stream() then goes through the list,
-// prefetching each range's records one range ahead, and tests each scanned range in chunks
-// without a branch per record: map/cylinder_scan.hpp's SIMD kernel where the target has
-// AVX2 and FMA or AVX-512 (CompactRecord), else loops the compiler vectorises (measure()).
-// Measured and tuned for the octree: see voi_octree.hpp and BENCHMARKS.md.
+// prefetching the records a steady prefetch_lead bytes ahead of the scan (through the ends
+// of ranges into the next ones), and tests each scanned range in chunks without a branch per
+// record: map/cylinder_scan.hpp's SIMD kernel where the target has AVX2 and FMA or AVX-512
+// (CompactRecord), else loops the compiler vectorises (measure()).
+// The lead: the grid's column ranges (vertical rays: ~21 ranges of ~750 records per ray) are
+// longer than what the processor's own prefetchers fetch ahead, and the scan waited on memory
+// (most of the kernel's cycles on its loads) when only the first 4 KiB of the next range was
+// hinted. A steady lead of 4 KiB gave the grid's estimate 1.28-1.33 times the rays/s (1-16 KiB
+// alike within the noise) and left the octree's (leaves of <= 128 records) unchanged within
+// the noise (Zen 5, BENCHMARKS.md, sixteenth session). Tuned for the octree: voi_octree.hpp.
 #include "secchi/map/cylinder_scan.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
@@ -46,22 +52,24 @@ public:
         std::size_t size = 0;
     };
 
-    /// Reports the hits of the queued ranges in order, prefetching one range ahead: a bulk
+    /// Reports the hits of the queued ranges in order, prefetching prefetch_lead bytes ahead: a bulk
     /// range all its records, a scanned range (a leaf) those filter() accepts, in chunks of at
     /// most Chunk::capacity records (to a ChunkCollector as one run of hits per chunk).
     template <Collector C>
     bool stream(const WorkList& work, const Ray& ray, double r2, C& collect) const {
-        if (work.size > 0) prefetch(work.items[0].begin, work.items[0].end);
+        Prefetcher ahead(work, records_.data());
+        ahead.advance(prefetch_lead);
         Hit hit{};
         for (std::size_t w = 0; w < work.size; ++w) {
-            if (w + 1 < work.size) prefetch(work.items[w + 1].begin, work.items[w + 1].end);
             const auto& range = work.items[w];
             if (range.whole) {
+                ahead.advance(bytes(range.begin, range.end));
                 if (!report_all(ray, range.begin, range.end, collect)) return false;
                 continue;
             }
             for (std::uint32_t begin = range.begin; begin < range.end; begin += Chunk::capacity) {
                 const std::uint32_t end = std::min<std::uint32_t>(range.end, begin + Chunk::capacity);
+                ahead.advance(bytes(begin, end));
                 Chunk chunk;
                 const std::uint32_t n = filter(begin, end, ray, r2, chunk);
                 if constexpr (ChunkCollector<C>) {
@@ -79,17 +87,43 @@ public:
         return true;
     }
 
+    /// How far ahead of the scan the records are prefetched (bytes, across ranges).
+    static constexpr std::size_t prefetch_lead = 4096;
+
 private:
-    /// Hints the cache to fetch records [begin, end) (at most the first 4 KiB).
-    void prefetch(std::uint32_t begin, std::uint32_t end) const {
+    static std::size_t bytes(std::uint32_t begin, std::uint32_t end) { return std::size_t{end - begin} * sizeof(Record); }
+
+    /// Hints the cache to fetch the queued ranges' records in scan order, a given number of
+    /// bytes at a time: the scan calls advance(b) as it starts on b bytes, so the hints run
+    /// prefetch_lead bytes ahead of it, through range ends into the next ranges.
+    class Prefetcher {
+    public:
+        Prefetcher(const WorkList& work, const Record* records) : work_(work), records_(records) {}
+        void advance(std::size_t amount) {
 #if defined(__GNUC__)
-        const char* p = reinterpret_cast<const char*>(records_.data() + begin);
-        const char* const stop = reinterpret_cast<const char*>(records_.data() + end);
-        for (const char* last = p + 4096; p < stop && p < last; p += 64) __builtin_prefetch(p);
+            while (amount > 0 && item_ < work_.size) {
+                const auto& range = work_.items[item_];
+                const auto first = reinterpret_cast<std::uintptr_t>(records_ + range.begin);
+                const std::size_t size = bytes(range.begin, range.end);
+                const std::size_t step = std::min(amount, size - done_);
+                // one hint per 64-byte cache line that bytes [done_, done_ + step) touch
+                const std::uintptr_t last = (first + done_ + step - 1) & ~std::uintptr_t{63};
+                for (std::uintptr_t line = (first + done_) & ~std::uintptr_t{63}; line <= last; line += 64)
+                    __builtin_prefetch(reinterpret_cast<const void*>(line));
+                done_ += step;
+                amount -= step;
+                if (done_ == size) ++item_, done_ = 0;
+            }
 #else
-        (void)begin, (void)end;
+            (void)amount;
 #endif
-    }
+        }
+
+    private:
+        const WorkList& work_;
+        const Record* records_;
+        std::size_t item_ = 0, done_ = 0;  ///< the next byte to hint: item_'s range, done_ bytes in
+    };
 
     /// One chunk of a range [begin, end): the records in_cylinder accepts, packed in order:
     /// hit k is record begin + accepted[k] with in_cylinder's t[k] and distance2[k]. (measure()

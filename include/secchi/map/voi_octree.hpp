@@ -68,7 +68,8 @@
 // for bulk ranges too: equal with the estimator, 0.95 with a counting collector
 // (report_all(), inlined with the collector, skips what the collector does not use);
 // prefetching further ahead (2 to 4 ranges, or a steady 2-16 KiB ahead of the scan): slower
-// (none at all: 0.77 times); merging adjacent ranges of the walk (half as many ranges) and
+// on a Zen 3 (none at all: 0.77 times), no different on a Zen 5, where the steady 4 KiB lead
+// now serves both VOI stores (range_scan.hpp); merging adjacent ranges of the walk (half as many ranges) and
 // chunks of 128 records: no change.
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
@@ -199,8 +200,8 @@ private:
         const Node* const nodes = nodes_.data();
         // Two phases, so that record memory is fetched ahead of use: the walk lists the
         // record ranges to scan (leaves) or report whole (bulk), in walk order, in `work`;
-        // stream() then goes through the list, prefetching each range's records one range
-        // ahead. Scanning streams ~5,000 records per ray from memory and is limited by it
+        // stream() then goes through the list, prefetching the records a few KiB ahead of
+        // the scan. Scanning streams ~5,000 records per ray from memory and is limited by it
         // (BENCHMARKS.md); the hits and their order are those of the one-phase walk.
         const detail::CylinderRanges<Record> ranges(records_);
         typename detail::CylinderRanges<Record>::WorkList work;
