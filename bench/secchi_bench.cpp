@@ -11,7 +11,9 @@
 // (collection also on a cache-resident map, thread_speedup_collection_cached_map, to separate
 // memory traffic), and thread_speedup_compute_loop(_throughput_bound): pure compute loops,
 // latency-bound and throughput-bound, timed in the same rounds: the speed-up the shared
-// machine allowed at that moment.
+// machine allowed at that moment; thread_speedup_memory_loop: the same for a loop bound by
+// memory latency (a pointer chase through 64 MB per thread), where the two cores share the
+// memory system as the collection's stores do.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/io/cli.hpp"
@@ -30,6 +32,8 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <numeric>
+#include <random>
 
 namespace {
 
@@ -86,6 +90,35 @@ double compute_loop_seconds(unsigned threads) {
     if (!(sink[0] > 0 && sink[1] > 0)) throw std::logic_error("compute loop");  // keeps the loop
     return t;
 }
+
+/// Two random cycles through 64 MB each (8-byte links, one pass of a shuffle): the machine's
+/// memory-latency-bound reference (every step a cache and TLB miss; no bandwidth to speak of).
+struct PointerChase {
+    static constexpr std::size_t links = std::size_t{1} << 23;
+    std::array<std::vector<std::uint64_t>, 2> next;
+    PointerChase() {
+        for (std::size_t c = 0; c < next.size(); ++c) {
+            std::vector<std::uint64_t> order(links);
+            std::iota(order.begin(), order.end(), 0);
+            std::shuffle(order.begin() + 1, order.end(), std::mt19937_64(c + 1));
+            next[c].resize(links);
+            for (std::size_t i = 0; i < links; ++i) next[c][order[i]] = order[(i + 1) % links];
+        }
+    }
+    /// Seconds for 500,000 steps along each cycle on `threads` threads (a cycle per thread with 2).
+    [[nodiscard]] double seconds(unsigned threads) const {
+        std::array<std::uint64_t, 2> end{};
+        const auto t0 = std::chrono::steady_clock::now();
+        parallel_for(2, threads, [&](std::size_t c) {
+            std::uint64_t i = 0;
+            for (int step = 0; step < 500'000; ++step) i = next[c][i];
+            end[c] = i;
+        });
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (end[0] == links) throw std::logic_error("pointer chase");  // keeps the loop
+        return t;
+    }
+};
 
 }  // namespace
 
@@ -159,7 +192,8 @@ int main(int argc, char** argv) {
         // short runs and the machine's noise weigh less. Each round also times the pure compute
         // loop on 1 and 2 threads (thread_speedup_compute_loop, the median over all rounds): the
         // speed-up the shared machine allowed while the collection figures were taken.
-        std::vector<double> loop_speedups, busy_loop_speedups;
+        std::vector<double> loop_speedups, busy_loop_speedups, memory_loop_speedups;
+        const PointerChase chase;
         auto median_thread_speedup = [&](const auto& store, const std::vector<Ray>& grid) {
             std::vector<double> speedups;
             for (int round = 0; round < 7; ++round) {
@@ -168,6 +202,7 @@ int main(int argc, char** argv) {
                 speedups.push_back(two.rays_per_s / one.rays_per_s);
                 loop_speedups.push_back(compute_loop_seconds<1>(1) / compute_loop_seconds<1>(2));
                 busy_loop_speedups.push_back(compute_loop_seconds<12>(1) / compute_loop_seconds<12>(2));
+                memory_loop_speedups.push_back(chase.seconds(1) / chase.seconds(2));
             }
             return median(speedups);
         };
@@ -210,6 +245,7 @@ int main(int argc, char** argv) {
         fig["thread_speedup_collection_cached_map"] = cached_speedup;
         fig["thread_speedup_compute_loop"] = median(loop_speedups);
         fig["thread_speedup_compute_loop_throughput_bound"] = median(busy_loop_speedups);
+        fig["thread_speedup_memory_loop"] = median(memory_loop_speedups);
 
         std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", map.records.size());
         std::printf("  k-d n=32: %.3g photons/ray, Lu %.4e +- %.1e\n", k1.photons_per_ray, k1.lu.value, k1.lu.se);
