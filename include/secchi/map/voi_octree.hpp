@@ -69,8 +69,8 @@
 // (report_all(), inlined with the collector, skips what the collector does not use);
 // prefetching further ahead (2 to 4 ranges, or a steady 2-16 KiB ahead of the scan): slower
 // on a Zen 3 (none at all: 0.77 times), no different on a Zen 5, where the steady 4 KiB lead
-// now serves both VOI stores (range_scan.hpp); merging adjacent ranges of the walk (half as many ranges) and
-// chunks of 128 records: no change.
+// now serves both VOI stores (range_scan.hpp); merging adjacent ranges of the walk (half as
+// many ranges) and chunks of 128 records: no change.
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
