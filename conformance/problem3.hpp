@@ -19,7 +19,7 @@ namespace secchi::conformance {
 inline constexpr double problem3_wavelength_nm = 500.0;
 
 /// particle_phase: M93 Table 2 by default (the --petzold variants are for investigation).
-inline auto problem3_model(TabulatedPhase particle_phase = petzold_m93(TabulatedConvention::trapezoid)) {
+inline auto problem3_model(TabulatedPhase particle_phase = petzold_m93()) {
     using namespace iop;
     const GaussianConcentration chlorophyll;  // the manual's defaults are problem 3's profile
     MorelConcentrationParams particle_absorption;

@@ -11,7 +11,7 @@
 
 namespace {
 
-constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
+constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-trapezoid|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
             --sun-zenith DEG [--sky E] --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
             | --slope-variance S2] [--facets projected-area|redraw]
             [--bottom-depth TAU --bottom-albedo A]

@@ -227,7 +227,7 @@ TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in l
 // operations but cos by sin_cos (2 ulp of 1 at most, 2.2e-16 x 2) rather than std::cos; in the
 // power law, pow as exp(log(.) / (2 - k)), which moves cos psi by < 1e-19 (tabulated.hpp).
 TEST_CASE("A tabulated phase function's inverse CDF in lanes is sample_direction's, to cos's rounding") {
-    for (const TabulatedPhase& phase : {petzold_m93(), petzold_m93(TabulatedConvention::linear_p)}) {
+    for (const TabulatedPhase& phase : {petzold_m93(), petzold_m93(PetzoldReading::trapezoid)}) {
         std::vector<double> u = uniforms(8192, 9);
         for (double v : {0.0, 1e-300, 1e-9, 1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.5, 0.999, 1.0 - 1e-9}) u.push_back(v);
         for (std::size_t k = 0; k < 2048; ++k) u.push_back(0.1 * u[k]);  // the forward peak

@@ -103,7 +103,7 @@ TEST_CASE("the sampling histogram rejects a sampler that does not match its pdf"
 }
 
 TEST_CASE("Petzold phase function, M93 trapezoidal convention") {
-    const TabulatedPhase p = petzold_m93();
+    const TabulatedPhase p = petzold_m93(PetzoldReading::trapezoid);
     check_phase_function(p, 31);
     // The raw integral, recomputed here independently: power law below theta_0 (int of
     // 2 pi p_0 theta_0^k psi^{1-k}) plus the trapezoidal rule on 2 pi p sin(psi).
@@ -133,7 +133,7 @@ TEST_CASE("Petzold phase function, M93 trapezoidal convention") {
 }
 
 TEST_CASE("Petzold phase function, p linearly interpolated") {
-    const TabulatedPhase p = petzold_m93(TabulatedConvention::linear_p);
+    const TabulatedPhase p = petzold_m93(PetzoldReading::linear);
     check_phase_function(p, 32);
     CHECK(p.raw_integral() == Approx(1.020).margin(0.002));
     const auto m = phase_moments(p);
@@ -144,7 +144,7 @@ TEST_CASE("Petzold phase function, p linearly interpolated") {
 }
 
 TEST_CASE("tabulated sampling inverts the exact cumulative integral") {
-    for (auto c : {TabulatedConvention::trapezoid, TabulatedConvention::linear_p}) {
+    for (auto c : {PetzoldReading::trapezoid, PetzoldReading::linear, PetzoldReading::canonical}) {
         const TabulatedPhase p = petzold_m93(c);
         for (double u : {0.01, 0.02, 0.0589, 0.0590, 0.0599, 0.0600, 0.0601, 0.1, 0.3, 0.5, 0.9, 0.98, 0.99, 0.999, 0.999999}) {
             const double psi = std::acos(p.sample(u, 0.5).cos_psi);
@@ -164,7 +164,7 @@ TEST_CASE("tabulated sampling: the guide table finds upper_bound's segment, bit 
     // and a 2-node one. Targets: random u, every bucket edge b/G and its neighbours, every
     // node's u = cum_i / cum_n and its neighbours, and the ends.
     std::vector<std::vector<double>> tables;
-    for (auto c : {TabulatedConvention::trapezoid, TabulatedConvention::linear_p}) {
+    for (auto c : {PetzoldReading::trapezoid, PetzoldReading::linear, PetzoldReading::canonical}) {
         const TabulatedPhase p = petzold_m93(c);
         std::vector<double> cum;
         for (double psi : p.breakpoints()) cum.push_back(p.cumulative(psi));
@@ -203,8 +203,8 @@ TEST_CASE("tabulated sampling: the guide table finds upper_bound's segment, bit 
 }
 
 TEST_CASE("sample_direction is the direction of sample(), bit for bit") {
-    const std::vector<TabulatedPhase> tables{petzold_m93(), petzold_m93(TabulatedConvention::linear_p),
-                                             petzold_m93_flat_forward(),
+    const std::vector<TabulatedPhase> tables{petzold_m93(), petzold_m93(PetzoldReading::trapezoid),
+                                             petzold_m93(PetzoldReading::linear),
                                              TabulatedPhase({0.0, 30.0, 180.0}, {5.0, 1.0, 0.5})};
     const HenyeyGreensteinPhase hg(0.9);
     PhotonRng rng(9, 0);
@@ -329,15 +329,40 @@ TEST_CASE("cone average of the Petzold function") {
     }
 }
 
-TEST_CASE("Petzold variant flat below 0.1 deg: normalised, more backscatter than the canonical function") {
-    const auto flat = secchi::petzold_m93_flat_forward();
-    const auto canonical = secchi::petzold_m93();
-    const auto mf = secchi::phase_moments(flat);
-    const auto mc = secchi::phase_moments(canonical);
-    CHECK(mf.normalisation == Approx(1.0).margin(1e-6));
-    // Its tail below 0.1 deg holds less scattering than the power law's, so after
-    // normalisation more of it lies at large angles.
-    CHECK(mf.backscatter_fraction > mc.backscatter_fraction);
-    // constant below 0.1 deg (a power law would differ by a factor 2.5 here); 1e-6: acos near 0
-    CHECK(flat.eval(std::cos(0.05 * secchi::deg)) == Approx(flat.eval(std::cos(0.1 * secchi::deg))).epsilon(1e-6));
+TEST_CASE("canonical Petzold: all 55 nodes, p linear in angle, flat below 0.1 deg, normalised (canonical_problems.md)") {
+    using namespace secchi;
+    const auto p = petzold_m93();
+    check_phase_function(p, 34);
+    const auto m = phase_moments(p);
+    CHECK(m.normalisation == Approx(1.0).margin(1e-6));
+    // canonical_problems.md: b_b/b about 0.0184 (published for this function: 0.0183), mean
+    // cosine about 0.92; the power-law readings hold more scattering below 0.13 deg, so less
+    // at large angles after normalisation.
+    CHECK(m.backscatter_fraction == Approx(0.0184).margin(0.0001));
+    CHECK(m.mean_cosine == Approx(0.92).margin(0.01));
+    CHECK(m.backscatter_fraction > phase_moments(petzold_m93(PetzoldReading::trapezoid)).backscatter_fraction);
+    CHECK(m.backscatter_fraction == Approx(1.0 - p.cumulative(0.5 * pi)).epsilon(1e-6));
+    // The raw integral of p linear in angle, recomputed independently: the flat part below
+    // 0.1 deg (2 pi p_0 int_0^theta_0 psi dpsi: below the first node the table takes sin(psi) as
+    // psi, tabulated.hpp; 4e-9 of the whole), then each segment's
+    // int 2 pi (p0 + (p1 - p0)(psi - a0)/(a1 - a0)) sin(psi) dpsi in closed form
+    // (int sin = -cos, int (psi - a0) sin = sin - (psi - a0) cos).
+    const auto& t = petzold_m93_table;
+    double raw = pi * t[0].value * std::pow(t[0].angle_deg * deg, 2);
+    for (std::size_t i = 0; i + 1 < t.size(); ++i) {
+        const double a0 = t[i].angle_deg * deg, a1 = t[i + 1].angle_deg * deg, h = a1 - a0;
+        const double s = (t[i + 1].value - t[i].value) / h;
+        raw += two_pi * (t[i].value * (std::cos(a0) - std::cos(a1)) + s * (std::sin(a1) - std::sin(a0) - h * std::cos(a1)));
+    }
+    CHECK(p.raw_integral() == Approx(raw).epsilon(1e-12));
+    // Every node as tabulated (after normalisation), and constant below 0.1 deg (a power law
+    // would differ by a factor 2.5 at 0.05 deg); 1e-6: acos near 0.
+    for (const auto& node : t)
+        CHECK(p.eval(std::cos(node.angle_deg * deg)) * p.raw_integral() == Approx(node.value).epsilon(1e-9));
+    CHECK(p.eval(std::cos(0.05 * deg)) == Approx(p.eval(std::cos(0.1 * deg))).epsilon(1e-6));
+    // The names select the readings.
+    CHECK(petzold_reading("petzold") == PetzoldReading::canonical);
+    CHECK(petzold_reading("petzold-trapezoid") == PetzoldReading::trapezoid);
+    CHECK(petzold_reading("petzold-linear") == PetzoldReading::linear);
+    CHECK(!petzold_reading("petzold-linear-flat"));
 }

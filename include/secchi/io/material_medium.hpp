@@ -13,6 +13,7 @@
 //       ADD_SCATTERING_MODEL     { TYPE = constant | specific | gordonmorel | kopelevich
 //                                         | buiteveld ... }                          (5.7)
 //       ADD_PHASE_FUNCTION_MODEL { TYPE = uniform | data | hgpf | schlick | rayleigh | petzold
+//                                         | petzold-trapezoid | petzold-linear
 //                                         | fournierforand ... SCATID = ... }        (5.8)
 //       REFRACTIVE_INDEX_MODEL   { TYPE = constant | iapws ... }                   (5.9)
 //     }
@@ -292,7 +293,7 @@ private:
 
     AnyPhase phase_model(const std::string& type, ParameterReader& r) {
         if (type == "uniform") return IsotropicPhase{};
-        if (type == "petzold") return petzold_m93(TabulatedConvention::trapezoid);
+        if (const auto reading = petzold_reading(type)) return petzold_m93(*reading);
         if (type == "hgpf") return hg_mixture(r.numbers("G", {0.0}), r.numbers("W", {1.0}));
         if (type == "schlick") return schlick_mixture(r.numbers("G", {0.0}), r.numbers("W", {1.0}));
         if (type == "rayleigh") {
@@ -308,7 +309,7 @@ private:
             return tabulated_from_theta_samples(data.wavelength_nm, data.value);
         }
         r.reject_value("TYPE", "unknown phase function model (uniform, data, hgpf, schlick, rayleigh, petzold, "
-                               "fournierforand)");
+                               "petzold-trapezoid, petzold-linear, fournierforand)");
     }
 
     void set_refractive_index(const MaterialSection& s) {

@@ -2,8 +2,9 @@
 // Run-time choice of a phase function by name, for command lines and files: the edge where
 // the configuration becomes a compile-time type (std::visit instantiates the whole
 // simulation per phase type, so no virtual call reaches the photon loop).
-//   isotropic | rayleigh | petzold | petzold-linear | petzold-linear-flat | hg:G
+//   isotropic | rayleigh | petzold | petzold-trapezoid | petzold-linear | hg:G
 //   | schlick:K | pure-water | ff:BB (Fournier-Forand with b_b/b = BB, n = 1.10)
+// (petzold: the canonical reading of M93 Table 2; the other two: optics/phase/petzold.hpp.)
 // AnyPhase, the variant of every phase type, is defined in optics/phase/any_phase.hpp.
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/any_phase.hpp"
@@ -28,16 +29,14 @@ inline double phase_parameter(const std::string& spec, std::size_t prefix_length
 inline AnyPhase parse_phase(const std::string& spec) {
     if (spec == "isotropic") return IsotropicPhase{};
     if (spec == "rayleigh") return RayleighPhase{};
-    if (spec == "petzold") return petzold_m93(TabulatedConvention::trapezoid);
-    if (spec == "petzold-linear") return petzold_m93(TabulatedConvention::linear_p);
-    if (spec == "petzold-linear-flat") return petzold_m93_flat_forward();
+    if (const auto reading = petzold_reading(spec)) return petzold_m93(*reading);
     if (spec == "pure-water") return pure_water_phase();
     if (spec.rfind("hg:", 0) == 0) return HenyeyGreensteinPhase(detail::phase_parameter(spec, 3, "phase hg:G"));
     if (spec.rfind("schlick:", 0) == 0) return SchlickPhase(detail::phase_parameter(spec, 8, "phase schlick:K"));
     if (spec.rfind("ff:", 0) == 0)
         return FournierForandPhase::from_backscatter_fraction(detail::phase_parameter(spec, 3, "phase ff:BB"));
     reject("phase", spec,
-           "must be isotropic, rayleigh, petzold, petzold-linear, petzold-linear-flat, pure-water, hg:G, schlick:K "
+           "must be isotropic, rayleigh, petzold, petzold-trapezoid, petzold-linear, pure-water, hg:G, schlick:K "
            "or ff:BB");
 }
 

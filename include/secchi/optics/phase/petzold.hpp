@@ -4,8 +4,11 @@
 // and Stavn, "Comparison of numerical models for computing underwater light fields",
 // Applied Optics 32(36):7484-7504, 1993 (M93), Table 2; manual section 5.8.6. M93: "use linear
 // interpolation" between the tabulated angles and p(psi) = p(0.12589) (0.12589/psi)^1.346
-// below 0.12589 deg.
+// below 0.12589 deg. Which reading of that is canonical is fixed in canonical_problems.md
+// (section 2, problem 2): PetzoldReading below.
 #include <array>
+#include <optional>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -40,33 +43,44 @@ static_assert(petzold_m93_table.back().angle_deg == 180.0, "M93 Table 2 has 55 n
 /// M93's small-angle power law exponent: p ~ psi^-1.346 below 0.12589 deg.
 inline constexpr double petzold_m93_exponent = 1.346;
 
-/// The Petzold phase function of M93 problem 2: the nodes from 0.12589 to 180 deg and the
-/// power law below 0.12589 deg. The 0.1-deg entry is not used (it lies inside the power law,
-/// which it agrees with to 1e-4: 1295.64 (0.12589/0.1)^1.346 = 1766.4 vs 1766.61).
-/// M93 normalise with the trapezoidal convention (the default): raw integral 1.002.
-inline TabulatedPhase petzold_m93(TabulatedConvention c = TabulatedConvention::trapezoid) {
+/// The readings of Table 2 (canonical_problems.md, section 2, problem 2):
+///  - canonical ("petzold"): all 55 nodes from 0.1 deg, p linear in angle between them, p held at
+///    p(0.1 deg) below 0.1 deg (no power law), normalised numerically to 1: b_b/b 0.0184, mean
+///    cosine 0.92. Its backscatter fraction is the one published for this function (0.0183:
+///    Mobley 1994, "Light and Water"; the average-particle function of Hydrolight, one of the
+///    M93 models). The particle function of problems 2-6 and of the Kirk checks.
+///  - trapezoid ("petzold-trapezoid"): M93's stated rule, the nodes from 0.12589 deg with
+///    2 pi p sin(psi) trapezoidal in psi and the power law p(0.12589) (0.12589/psi)^1.346 below
+///    0.12589 deg (the 0.1-deg entry lies inside the power law, which it agrees with to 1e-4);
+///    raw integral 1.002, b_b/b 0.01809.
+///  - linear ("petzold-linear"): p linear in angle from 0.12589 deg, the same power law; raw
+///    integral 1.020, b_b/b 0.01779.
+enum class PetzoldReading { canonical, trapezoid, linear };
+
+inline TabulatedPhase petzold_m93(PetzoldReading reading = PetzoldReading::canonical) {
     std::vector<double> angle, value;
-    for (std::size_t i = 1; i < petzold_m93_table.size(); ++i) {
+    const std::size_t first = reading == PetzoldReading::canonical ? 0 : 1;
+    for (std::size_t i = first; i < petzold_m93_table.size(); ++i) {
         angle.push_back(petzold_m93_table[i].angle_deg);
         value.push_back(petzold_m93_table[i].value);
     }
-    const char* name = c == TabulatedConvention::trapezoid ? "petzold_m93(trapezoid)" : "petzold_m93(linear_p)";
-    return TabulatedPhase(angle, value, c, petzold_m93_exponent, name);
+    switch (reading) {
+        case PetzoldReading::canonical:
+            return TabulatedPhase(angle, value, TabulatedConvention::linear_p, std::nullopt, "petzold");
+        case PetzoldReading::trapezoid:
+            return TabulatedPhase(angle, value, TabulatedConvention::trapezoid, petzold_m93_exponent, "petzold-trapezoid");
+        case PetzoldReading::linear:
+            break;
+    }
+    return TabulatedPhase(angle, value, TabulatedConvention::linear_p, petzold_m93_exponent, "petzold-linear");
 }
 
-/// A variant for investigating the M93 model average (not the canonical definition): all of
-/// Table 2 from 0.1 deg, p linear in angle, and p held constant below 0.1 deg instead of the
-/// power law. Its tail below 0.1 deg carries 1.7 % of the scattering instead of the power
-/// law's 6 % below 0.126 deg, so b_b/b is 0.01841. With it, problems 2a and 2b reproduce the
-/// M93 irradiances within their spread where the canonical function does not (see the issue
-/// notes): a hint at how the models treated the forward peak.
-inline TabulatedPhase petzold_m93_flat_forward() {
-    std::vector<double> angle, value;
-    for (const auto& node : petzold_m93_table) {
-        angle.push_back(node.angle_deg);
-        value.push_back(node.value);
-    }
-    return TabulatedPhase(angle, value, TabulatedConvention::linear_p, std::nullopt, "petzold_m93(linear_p, flat below 0.1 deg)");
+/// The reading a name gives ("petzold", "petzold-trapezoid", "petzold-linear"), if it is one.
+inline std::optional<PetzoldReading> petzold_reading(std::string_view name) {
+    if (name == "petzold") return PetzoldReading::canonical;
+    if (name == "petzold-trapezoid") return PetzoldReading::trapezoid;
+    if (name == "petzold-linear") return PetzoldReading::linear;
+    return std::nullopt;
 }
 
 }  // namespace secchi
