@@ -26,12 +26,11 @@ TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_
 }
 
 /// The radiance estimator every collection benchmark times: `volume` in `store` at `radius`,
-/// homogeneous water with c = 1 /m and the cone-averaged phase function `cone`.
+/// the problem-2a water (c = 1 /m, b = 0.9 /m) and the cone-averaged phase function `cone`.
 template <class Store, class Volume, class Cone>
-auto radiance_estimator(const Store& store, const Volume& volume, const Cone& cone, double flux_per_photon,
+auto radiance_estimator(const Store& store, const Volume& volume, const Cone& cone, const RecordFlux& flux,
                         unsigned batches, double radius) {
-    return PathRadianceEstimator(store, volume, HomogeneousRayOptics(cone, 1.0), flux_per_photon, batches,
-                                 Radius(radius));
+    return PathRadianceEstimator(store, volume, HomogeneousRayOptics(cone, 1.0, 0.9), flux, batches, Radius(radius));
 }
 
 }  // namespace secchi::bench

@@ -152,7 +152,7 @@ struct Collected {
 template <class Store, class Volume>
 Collected collect(const Options& o, const Store& store, const Volume& volume, const Cone& cone,
                   const TransportResult<CompactRecord>& map, const std::vector<Ray>& rays, double radius) {
-    const auto est = radiance_estimator(store, volume, cone, map.flux_per_map_photon, map.batches, radius);
+    const auto est = radiance_estimator(store, volume, cone, map.map_flux, map.batches, radius);
     RadianceEstimate r;
     const Timing t = time_runs(o.repeats, [&] { r = est.estimate(rays, 1); });
     return {t, rays.size() / t.median, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
@@ -272,8 +272,8 @@ void suite_collect(const Options& o) {
         const double rc = r * std::sqrt(k[i].photons_per_ray / v.photons_per_ray);
         const auto c = collect(o, voi, VoiCylinder{}, cone, map, rays, rc);
         const auto cs = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
-        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.flux_per_map_photon, map.batches, r);
-        const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rc);
+        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.map_flux, map.batches, r);
+        const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, map.map_flux, map.batches, rc);
         const Timing paired = paired_ratio(o.repeats, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); });
         const double rn = r * std::cbrt(v.photons_per_ray / k[i].photons_per_ray);
         const auto kw = collect(o, kd, StepSpheres(ns[i]), cone, map, rays, rn);
@@ -295,8 +295,8 @@ void suite_collect(const Options& o) {
         const auto c = collect(o, grid, VoiCylinder{}, cone, map, rays, rc);
         const auto cs = search_only(o.repeats, grid, VoiCylinder{}, rays, rc);
         const auto os = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
-        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.flux_per_map_photon, map.batches, r);
-        const auto grid_est = radiance_estimator(grid, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rc);
+        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.map_flux, map.batches, r);
+        const auto grid_est = radiance_estimator(grid, VoiCylinder{}, cone, map.map_flux, map.batches, rc);
         const Timing paired = paired_ratio(o.repeats, [&] { kd_est.estimate(rays, 1); }, [&] { grid_est.estimate(rays, 1); });
         out(o, "| " + std::to_string(ns[i]) + " | " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " +
                    rate_cell(c.t, nr) + " | " + lu_cell(c.lu) + " | " + lu_cell(k[i].lu) + " | **" + fmt("%.3g", paired.median) +

@@ -62,7 +62,7 @@ struct CollectionFigures {
 };
 
 template <class Store, class Volume, class Cone>
-CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, double flux, unsigned batches,
+CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, const RecordFlux& flux, unsigned batches,
                           const std::vector<Ray>& rays, unsigned threads, int repeats, double radius = 0.05) {
     const auto est = radiance_estimator(store, volume, cone, flux, batches, radius);
     RadianceEstimate r;
@@ -186,8 +186,8 @@ int main(int argc, char** argv) {
         const VoiOctreeStore<CompactRecord> voi(map.records);
         const ConeAveragedPhase cone(petzold, 0.005);
         const auto rays = nadir_ray_grid(1.0, 8.0, quick ? 6 : 10, 1.0);
-        const auto k1 = collect(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
-        const auto v1 = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
+        const auto k1 = collect(kd, StepSpheres(32), cone, map.map_flux, map.batches, rays, 1, repeats);
+        const auto v1 = collect(voi, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats);
         // Thread speed-up of collection: 1 and 2 threads alternated over 7 rounds (median), so
         // short runs and the machine's noise weigh less. Each round also times the pure compute
         // loop on 1 and 2 threads (thread_speedup_compute_loop, the median over all rounds): the
@@ -197,8 +197,8 @@ int main(int argc, char** argv) {
         auto median_thread_speedup = [&](const auto& store, const std::vector<Ray>& grid) {
             std::vector<double> speedups;
             for (int round = 0; round < 7; ++round) {
-                const auto one = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 1, 1);
-                const auto two = collect(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, grid, 2, 1);
+                const auto one = collect(store, VoiCylinder{}, cone, map.map_flux, map.batches, grid, 1, 1);
+                const auto two = collect(store, VoiCylinder{}, cone, map.map_flux, map.batches, grid, 2, 1);
                 speedups.push_back(two.rays_per_s / one.rays_per_s);
                 loop_speedups.push_back(compute_loop_seconds<1>(1) / compute_loop_seconds<1>(2));
                 busy_loop_speedups.push_back(compute_loop_seconds<12>(1) / compute_loop_seconds<12>(2));
@@ -217,15 +217,15 @@ int main(int argc, char** argv) {
         // At equal photons per ray: the cylinder radius scaled so it touches as many photons
         // per ray as the 32 spheres (photons per ray scale with the cross-section).
         const double r_equal = 0.05 * std::sqrt(k1.photons_per_ray / v1.photons_per_ray);
-        const auto ve = collect(voi, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats, r_equal);
+        const auto ve = collect(voi, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats, r_equal);
         fig["voi_rays_per_s_equal_photons"] = ve.rays_per_s;
         fig["kd_rays_per_s"] = k1.rays_per_s;
         fig["voi_rays_per_s"] = v1.rays_per_s;
         // The speed-ups are paired (bench_timing.hpp's paired_ratio): 7 rounds, each timing the
         // k-d tree's estimate and then the cylinder's; the median of the rounds' ratios.
         auto speedup_vs_kd32 = [&](const auto& store, double voi_radius) {
-            const auto kd_est = radiance_estimator(kd, StepSpheres(32), cone, map.flux_per_map_photon, map.batches, 0.05);
-            const auto voi_est = radiance_estimator(store, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, voi_radius);
+            const auto kd_est = radiance_estimator(kd, StepSpheres(32), cone, map.map_flux, map.batches, 0.05);
+            const auto voi_est = radiance_estimator(store, VoiCylinder{}, cone, map.map_flux, map.batches, voi_radius);
             return paired_ratio(7, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); }).median;
         };
         fig["voi_speedup_vs_kd32"] = speedup_vs_kd32(voi, 0.05);
@@ -233,9 +233,9 @@ int main(int argc, char** argv) {
         // The same cylinder on the uniform grid of columns (VoiGridStore), its cells sized for
         // the radius it serves.
         const VoiGridStore<CompactRecord> grid(map.records, Radius(0.05)), grid_equal(map.records, Radius(r_equal));
-        const auto g1 = collect(grid, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats);
+        const auto g1 = collect(grid, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats);
         const auto ge =
-            collect(grid_equal, VoiCylinder{}, cone, map.flux_per_map_photon, map.batches, rays, 1, repeats, r_equal);
+            collect(grid_equal, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats, r_equal);
         fig["voi_grid_rays_per_s"] = g1.rays_per_s;
         fig["voi_grid_rays_per_s_equal_photons"] = ge.rays_per_s;
         fig["voi_grid_speedup_vs_kd32"] = speedup_vs_kd32(grid, 0.05);

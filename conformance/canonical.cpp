@@ -133,12 +133,8 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     if (p.id == "3") {
         // Problem 3 reaches 60 m (Ed falls 1e4-fold): depth importance (geometric splitting,
         // transport/importance.hpp) keeps photons and map photons at depth, growing like
-        // exp(tau_a / 0.6) down to the deepest Lu ray's end (25 m + ray length).
-        t.importance = {cl.number("importance-cosine", 0.6), 25.0 + cfg.ray_length};
-        // Scalar irradiance layers 20 cm thick: where b is small (0.14 /m at 60 m) grazing
-        // photons cross a thin layer over long tracks (the 1/|mu| tail of the track-length
-        // estimator); the layer's bias (K D)^2 / 24 stays below 5e-4 for K < 0.5 /m.
-        t.layer_thickness = 0.2;
+        // exp(tau_a / 0.6) down to the deepest detector.
+        t.importance = {cl.number("importance-cosine", 0.6), p.depths.back()};
     }
     cfg.store = parse_store(cl.required_text("store"));
     // LaneTracer for the homogeneous problems; problem 3's stratified water is PhotonTracer's.

@@ -22,12 +22,13 @@ int main() {
 
     const VoiOctreeStore<CompactRecord> map(first.records);         // second pass (manual 3.5)
     // (or VoiGridStore<CompactRecord>(first.records, Radius(0.05)): the same query, faster)
-    const ConeAveragedPhase cone(water.phase(), /*omega=*/0.005);
-    const HomogeneousRayOptics optics{cone, water.attenuation()};    // pbar_omega(psi) exp(-c t), eq. 3.18
-    const PathRadianceEstimator lu(map, VoiCylinder{}, optics, first.flux_per_map_photon, first.batches, Radius(0.05));
-    const auto in_water = lu.estimate(nadir_ray_grid(/*z=*/5.0, /*length=*/5.0, /*k=*/10, slab.width()), 2);
-    // plus the bottom's reflected radiance A Ed(bottom) / pi, attenuated over the 5 m to the bottom
-    const double from_bottom = 0.3 * first.bottom_ed.value / pi * std::exp(-water.attenuation() * 5.0);
+    const ConeAveragedPhase cone(water.phase(), /*omega=*/0.005);   // its forward peak travels on along the ray
+    const HomogeneousRayOptics optics{cone, water.attenuation(), water.scattering()};  // pbar_omega(psi) exp(-c' t), eq. 3.18
+    const PathRadianceEstimator lu(map, VoiCylinder{}, optics, first.map_flux, first.batches, Radius(0.05));
+    const Ray down{{0.5, 0.5, 5.0}, {0.0, 0.0, 1.0}, 5.0};               // from 5 m to the bottom
+    const auto in_water = lu.estimate(nadir_ray_grid(down.origin.z, down.t_max, /*k=*/10, slab.width()), 2);
+    // plus the bottom's reflected radiance A Ed(bottom) / pi, carried up the 5 m by the ray's transmittance
+    const double from_bottom = 0.3 * first.bottom_ed.value / pi * optics.transmittance(down, down.t_max);
 
     std::printf("Ed(5 m) = %.4e +- %.1e W m^-2 nm^-1\n", first.irradiance[1][Ed].value, first.irradiance[1][Ed].se);
     std::printf("Lu(5 m) = %.4e +- %.1e W m^-2 sr^-1 nm^-1 (%.4e of it from the bottom)\n",

@@ -23,7 +23,10 @@ Depths and lengths are optical (c = 1 /m). Defaults:
            0: a black sky, as in M93's problems)
   --depths 1,5,10  --photons 1000000  --map-photons min(photons, 2000000)  --seed 1
   --threads 1  --batches 32  --store voi  --radius 0.05  --steps 64  --omega 0.005 (sr)
-  --ray-length 8  --ray-grid 10 (10 x 10 vertical rays per depth)  --section-width 1
+  --ray-transmittance 1e-4 (Lu's rays end where their transmittance falls to this, or at
+               the bottom)  --ray-grid 10 (10 x 10 vertical rays per depth)  --section-width 1
+  --cone-peak transmitted|averaged (default transmitted: the phase function's peak within the
+               collection cone travels on along the ray; averaged: the manual's eq. 3.5)
   --absorption continuous|implicit|analog (default continuous: free paths from b, weight
                exp(-a s) along each flight; implicit: weight x w0 per collision; analog)
   --bottom-albedo 0 (with --bottom-depth: a Lambertian bottom)
@@ -121,7 +124,8 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.radius = cl.number("radius", 0.05);
     cfg.steps = static_cast<unsigned>(cl.count("steps", 64));
     cfg.omega = cl.number("omega", 0.005);
-    cfg.ray_length = cl.number("ray-length", 8.0);
+    cfg.ray_transmittance = cl.number("ray-transmittance", 1e-4);
+    cfg.cone_peak = secchi::parse_cone_peak(cl.text("cone-peak", "transmitted"));
     cfg.ray_grid = static_cast<unsigned>(cl.count("ray-grid", 10));
     cfg.section_width = cl.number("section-width", 1.0);
     return cfg;
@@ -135,7 +139,7 @@ int main(int argc, char** argv) {
                                      {"phase", "albedo", "sun-zenith", "sky", "water-index", "wind", "slope-variance", "slopes",
                                       "wind-azimuth", "facets", "bottom-depth", "bottom-albedo",
                                       "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
-                                      "store", "radius", "steps", "omega", "ray-length", "ray-grid", "section-width",
+                                      "store", "radius", "steps", "omega", "ray-transmittance", "cone-peak", "ray-grid", "section-width",
                                       "tracer", "json"});
         const auto cfg = config_from(cl);
         const auto phase = secchi::parse_phase(cl.text("phase", "petzold"));

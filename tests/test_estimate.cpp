@@ -73,10 +73,10 @@ TEST_CASE("The VOI cylinder compensates the water's top and bottom on slanted ra
         near_bottom.push_back({vec3(0.15, y, depth - 0.01), vec3(s, 0.0, -c), length});
     }
     const VoiOctreeStore<CompactRecord> store(records);
-    const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), 0.0);
+    const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), 0.0, 0.0);
     const Radius r(0.05);
-    const PathRadianceEstimator compensated(store, VoiCylinder(0.0, depth), optics, 1.0, batches, r);
-    const PathRadianceEstimator uncompensated(store, VoiCylinder(-INFINITY, INFINITY), optics, 1.0, batches, r);
+    const PathRadianceEstimator compensated(store, VoiCylinder(0.0, depth), optics, RecordFlux::uniform(1.0), batches, r);
+    const PathRadianceEstimator uncompensated(store, VoiCylinder(-INFINITY, INFINITY), optics, RecordFlux::uniform(1.0), batches, r);
     for (const auto* rays : {&near_top, &near_bottom}) {
         const auto with = compensated.estimate(*rays, 2).radiance;
         const auto without = uncompensated.estimate(*rays, 2).radiance;
@@ -92,6 +92,8 @@ TEST_CASE("The VOI cylinder compensates the water's top and bottom on slanted ra
 }
 
 namespace {
+constexpr double ray_length = 4.0;
+
 PlaneParallelConfig single_scattering_config(StoreKind store) {
     PlaneParallelConfig cfg;
     cfg.albedo = 0.5;
@@ -104,7 +106,8 @@ PlaneParallelConfig single_scattering_config(StoreKind store) {
     cfg.transport.absorption = AbsorptionMode::analog;
     cfg.transport.threads = 2;
     cfg.store = store;
-    cfg.ray_length = 4.0;
+    cfg.ray_transmittance = std::exp(-ray_length);  // c = 1: rays of length 4
+    cfg.cone_peak = ConePeak::averaged;  // single scattering: no peak travels on along the ray
     cfg.radius = 0.05;
     cfg.steps = 64;
     return cfg;
@@ -120,7 +123,7 @@ TEST_CASE("Lu from the map equals the exact single-scattering radiance") {
         const auto r = solve_plane_parallel(iso, cfg);
         for (const auto& d : r.depths) {
             const double b = cfg.albedo;
-            const double exact = b / (4 * pi) * std::exp(-d.depth) * (1 - std::exp(-2 * cfg.ray_length)) / 2;
+            const double exact = b / (4 * pi) * std::exp(-d.depth) * (1 - std::exp(-2 * ray_length)) / 2;
             INFO(to_string(store) << " z " << d.depth << ": " << d.lu.value << " +- " << d.lu.se << " exact " << exact);
             CHECK(d.lu.se > 0);
             CHECK(d.lu.se < 0.05 * exact);
@@ -146,7 +149,7 @@ TEST_CASE("On a Lambertian bottom Eou = 2 Eu, so Eou = Ed where the reflectance 
     const auto& eou = bottom.irradiance[Eou];
     INFO("Ed " << ed.value << " +- " << ed.se << ", Eou " << eou.value << " +- " << eou.se);
     CHECK(std::abs(eou.value - ed.value) <= 4.0 * std::hypot(ed.se, eou.se));
-    // Above the bottom the layer's track-length estimate stands.
+    // Above the bottom the crossing estimate stands.
     CHECK(above.irradiance[Eou].value != 2.0 * above.irradiance[Eu].value);
     // On the bottom, nadir radiance is the bottom's own: 0.5 Ed / pi.
     CHECK(bottom.lu.value == Approx(0.5 * r.bottom_ed.value / pi).epsilon(1e-12));
@@ -156,7 +159,7 @@ TEST_CASE("Rayleigh single scattering: p(pi) = 3/(8 pi)") {
     auto cfg = single_scattering_config(StoreKind::voi);
     const auto r = solve_plane_parallel(RayleighPhase{}, cfg);
     const auto& d = r.depths[0];
-    const double exact = cfg.albedo * 3 / (8 * pi) * std::exp(-d.depth) * (1 - std::exp(-2 * cfg.ray_length)) / 2;
+    const double exact = cfg.albedo * 3 / (8 * pi) * std::exp(-d.depth) * (1 - std::exp(-2 * ray_length)) / 2;
     INFO(d.lu.value << " +- " << d.lu.se << " exact " << exact);
     CHECK(std::abs(d.lu.value - exact) <= 4 * d.lu.se);
 }
@@ -221,6 +224,7 @@ struct PerPhotonOnly {
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
         return optics.in_scatter(z, cos_psi, ray, t);
     }
+    [[nodiscard]] double transmittance(const Ray& ray, double t) const { return optics.transmittance(ray, t); }
 };
 
 /// Counts the tables the estimator built (for_cosines calls), else the optics unchanged.
@@ -284,34 +288,34 @@ TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identic
     const VoiOctreeStore<CompactRecord> voi(map.records);
     const KdTreeStore<CompactRecord> kd(map.records);
     const ConeAveragedPhase cone(hg, 0.005);
-    const HomogeneousRayOptics optics(cone, water.attenuation());
+    const HomogeneousRayOptics optics(cone, water.attenuation(), water.scattering());
     const PerPhotonOnly<HomogeneousRayOptics> per_photon{optics};
     const auto rays = rays_every_way(1.0);
     const Radius r(0.1);
     SECTION("VOI cylinder") {
-        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches, r),
-                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r),
+                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r), map.batches, rays);
     }
     SECTION("VOI cylinder in the grid (runs of photons: in_scatter_lanes with lanes::exp)") {
         const VoiGridStore<CompactRecord> grid(map.records, r);
-        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, 1.0, map.batches, r),
-                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r),
+                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r), map.batches, rays);
     }
     SECTION("transmittances beyond exp_table's range (c t > 708) take its special values") {
-        const HomogeneousRayOptics murky(cone, 250.0);
+        const HomogeneousRayOptics murky(cone, 250.0, 0.0);
         const PerPhotonOnly<HomogeneousRayOptics> murky_per_photon{murky};
         const VoiGridStore<CompactRecord> grid(map.records, r);
-        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, 1.0, map.batches, r),
-                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, 1.0, map.batches, r),
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, RecordFlux::uniform(1.0), map.batches, r),
+                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, RecordFlux::uniform(1.0), map.batches, r),
                             map.batches, rays);
     }
     SECTION("k-d tree spheres") {
-        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, 1.0, map.batches, r),
-                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, 1.0, map.batches, r), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, RecordFlux::uniform(1.0), map.batches, r),
+                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, RecordFlux::uniform(1.0), map.batches, r), map.batches, rays);
     }
     SECTION("the two vertical tables are built once, with the estimator; never per call, never for full records") {
-        const CountingOptics counting(cone, water.attenuation());
-        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, 1.0, map.batches, r);
+        const CountingOptics counting(cone, water.attenuation(), water.scattering());
+        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r);
         CHECK(*counting.tabulated == 2);  // down and up
         const auto vertical = est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2);
         const auto every_way = est.estimate(rays_every_way(1.0), 2);
@@ -330,13 +334,13 @@ TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identic
         std::vector<FullRecord> full;
         for (const auto& rec : map.records) full.push_back(FullRecord::make(rec.position(), rec.direction(), rec.band(), rec.batch()));
         const VoiOctreeStore<FullRecord> full_store(full);
-        const PathRadianceEstimator full_est(full_store, VoiCylinder{}, counting, 1.0, map.batches, r);
+        const PathRadianceEstimator full_est(full_store, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r);
         // The same photons with the same decoded directions, through the per-photon formula.
         CHECK(full_est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2).radiance.value ==
               Approx(vertical.radiance.value).epsilon(1e-12));
         CHECK(*counting.tabulated == 2);
         // The shared tables give each ray the sums accumulate() gives it alone.
-        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, 1.0, map.batches, r);
+        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r);
         double total = 0.0;
         for (const Ray& ray : rays_every_way(1.0)) {
             std::vector<double> one(map.batches, 0.0);
@@ -357,12 +361,12 @@ TEST_CASE("Vertical rays through a compact map in stratified water: per-componen
     const VoiOctreeStore<CompactRecord> voi(map.records);
     std::vector<ConeAveragedPhase<HenyeyGreensteinPhase>> cones;
     for (const auto& p : water.phases()) cones.emplace_back(p, 0.005);
-    const StratifiedRayOptics optics(water, cones, ImportanceLevels(importance, water));
-    REQUIRE(optics.importance.level(5.0) > optics.importance.level(1.0));
+    const StratifiedRayOptics optics(water, cones);
+    REQUIRE(map.map_flux.importance.level(5.0) > map.map_flux.importance.level(1.0));
     const PerPhotonOnly<StratifiedRayOptics<StratifiedWater<HenyeyGreensteinPhase>>> per_photon{optics};
     const Radius r(0.1);
-    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches, r),
-                        PathRadianceEstimator(voi, VoiCylinder{}, per_photon, 1.0, map.batches, r), map.batches,
+    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, map.map_flux, map.batches, r),
+                        PathRadianceEstimator(voi, VoiCylinder{}, per_photon, map.map_flux, map.batches, r), map.batches,
                         rays_every_way(1.0));
 }
 
@@ -372,13 +376,13 @@ TEST_CASE("The estimator refuses fewer batches than the map has, and too short a
     const auto map = compact_map(water, 2000);
     REQUIRE(map.batches >= 2);
     const VoiOctreeStore<CompactRecord> voi(map.records);
-    const HomogeneousRayOptics optics(ConeAveragedPhase(hg, 0.005), water.attenuation());
+    const HomogeneousRayOptics optics(ConeAveragedPhase(hg, 0.005), water.attenuation(), water.scattering());
     using Catch::Matchers::Contains;
     // A photon of the last batch would be summed outside the estimator's sums.
-    CHECK_THROWS_WITH(PathRadianceEstimator(voi, VoiCylinder{}, optics, 1.0, map.batches - 1, Radius(0.1)),
+    CHECK_THROWS_WITH(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches - 1, Radius(0.1)),
                       Contains("batches") && Contains(std::to_string(map.batches - 1)) &&
                           Contains("batch index " + std::to_string(map.batches - 1)));
-    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, 1.0, map.batches, Radius(0.1));
+    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, Radius(0.1));
     const Ray ray{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, 4.0};
     std::vector<double> short_sums(map.batches - 1, 0.0), sums(map.batches, 0.0);
     CHECK_THROWS_WITH(est.accumulate(ray, short_sums), Contains("batch_sums size"));

@@ -247,14 +247,14 @@ TEST_CASE("invalid input names the parameter") {
 }
 
 TEST_CASE("cone average of isotropic and Rayleigh functions") {
-    const ConeAveragedPhase<IsotropicPhase> iso(IsotropicPhase{}, 0.005);
+    const ConeAveragedPhase<IsotropicPhase> iso(IsotropicPhase{}, 0.005, ConePeak::averaged);
     CHECK(iso.omega() == 0.005);
     for (double psi : iso.breakpoints()) CHECK(iso.eval(std::cos(psi)) == Approx(1.0 / four_pi).epsilon(1e-9));
 
     // Rayleigh: by Funk-Hecke the cap mean of P2(mu) is P2(mu) c (1 + c)/2, c = cos(alpha), so
     // pbar = 3/(16 pi) (4/3 + (2/3) P2(mu) c (1 + c)/2) exactly; it differs from p by O(alpha^2).
     const RayleighPhase r;
-    const ConeAveragedPhase<RayleighPhase> cone(r, 0.005);
+    const ConeAveragedPhase<RayleighPhase> cone(r, 0.005, ConePeak::averaged);
     const double c = std::cos(cone.half_angle());
     const auto exact = [c](double mu) {
         const double p2 = 0.5 * (3.0 * mu * mu - 1.0);
@@ -276,7 +276,7 @@ TEST_CASE("cone average of isotropic and Rayleigh functions") {
 TEST_CASE("cone average of the Petzold function") {
     const double omega = 0.005;
     const TabulatedPhase p = petzold_m93();
-    const ConeAveragedPhase<TabulatedPhase> cone(p, omega);
+    const ConeAveragedPhase<TabulatedPhase> cone(p, omega, ConePeak::averaged);
     const double alpha = cone.half_angle();
     CHECK(two_pi * (1.0 - std::cos(alpha)) == Approx(omega).epsilon(1e-12));
 
@@ -365,4 +365,48 @@ TEST_CASE("canonical Petzold: all 55 nodes, p linear in angle, flat below 0.1 de
     CHECK(petzold_reading("petzold-trapezoid") == PetzoldReading::trapezoid);
     CHECK(petzold_reading("petzold-linear") == PetzoldReading::linear);
     CHECK(!petzold_reading("petzold-linear-flat"));
+}
+
+TEST_CASE("cone average with the forward peak transmitted: the rest of p averaged, the peak's share reported") {
+    const double omega = 0.005;
+    for (const TabulatedPhase& p : {petzold_m93(), petzold_m93(PetzoldReading::trapezoid)}) {
+        INFO(p.name());
+        const ConeAveragedPhase<TabulatedPhase> averaged(p, omega, ConePeak::averaged);
+        const ConeAveragedPhase<TabulatedPhase> cone(p, omega);  // ConePeak::transmitted, the default
+        const double alpha = cone.half_angle();
+        REQUIRE(cone.peak() == ConePeak::transmitted);
+        CHECK(averaged.transmitted_fraction() == 0.0);
+        // f: the share of p within alpha of the forward direction (the table's exact cumulative).
+        const double f = cone.transmitted_fraction();
+        CHECK(f == Approx(p.cumulative(alpha)).epsilon(1e-6));
+        CHECK(f > 0.3);  // Petzold: a third of the scattering lies within 2.3 deg
+        // The average integrates to what is left, 1 - f.
+        const double norm =
+            integrate_solid_angle([&](double psi) { return cone.eval(std::cos(psi)); }, 0.0, pi, cone.breakpoints());
+        CHECK(norm == Approx(1.0 - f).epsilon(1e-4));
+        // On the axis every direction of the cone lies within alpha: nothing is averaged.
+        CHECK(cone.eval(1.0) == 0.0);
+        // Beyond 2 alpha the cone never reaches the peak: the two averages agree.
+        for (double psi_deg : {4.6, 10.0, 45.0, 120.0, 179.0})
+            CHECK(cone.eval(std::cos(psi_deg * deg)) == Approx(averaged.eval(std::cos(psi_deg * deg))).epsilon(1e-9));
+        // Near the peak, by Monte Carlo: pbar(psi) omega is the probability that a photon
+        // scattered by p through more than alpha lands inside a cone whose axis is at psi (4 SE).
+        for (double psi_deg : {1.0, 2.2, 3.5}) {
+            const double psi = psi_deg * deg;
+            PhotonRng rng(78, static_cast<std::uint64_t>(psi_deg * 10));
+            const int n = 1000000;
+            int inside = 0;
+            for (int i = 0; i < n; ++i) {
+                const PhaseSample s = p.sample(rng.uniform(), rng.uniform());
+                if (s.cos_psi > std::cos(alpha)) continue;
+                const double sin_s = std::sqrt(std::max(0.0, 1.0 - s.cos_psi * s.cos_psi));
+                inside += std::cos(psi) * s.cos_psi + std::sin(psi) * sin_s * std::cos(s.phi) >= std::cos(alpha);
+            }
+            const double frac = double(inside) / n, se = std::sqrt(frac * (1.0 - frac) / n);
+            INFO("psi = " << psi_deg << " deg: MC " << frac << " +- " << se);
+            CHECK(std::abs(cone.eval(std::cos(psi)) * omega - frac) < 4.0 * se);
+        }
+    }
+    CHECK(parse_cone_peak("averaged") == ConePeak::averaged);
+    CHECK_THROWS_WITH(parse_cone_peak("peaked"), Catch::Contains("cone peak") && Catch::Contains("peaked"));
 }

@@ -174,7 +174,6 @@ TEST_CASE("stratified water: analog, implicit capture and continuous absorption 
     TransportSettings s;
     s.photons = 300000;
     s.depths = {0.5, 2.0, 4.0};
-    s.layer_thickness = 0.1;
     s.absorption = AbsorptionMode::analog;
     const auto a = trace(water, s, 30.0);
     s.absorption = AbsorptionMode::continuous;
@@ -194,7 +193,6 @@ TEST_CASE("depth importance: splitting and roulette leave irradiances and the ma
     TransportSettings s;
     s.photons = s.map_photons = 200000;
     s.depths = {1.0, 4.0, 8.0};
-    s.layer_thickness = 0.1;
     const auto plain = trace(water, s, 30.0);
     s.importance = {0.5, 6.0};
     const ImportanceLevels levels(s.importance, water);

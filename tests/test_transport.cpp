@@ -51,8 +51,9 @@ TEST_CASE("Beer-Lambert for w0 = 0: Ed(z) = T Ed(0+) exp(-c z / mu_w)") {
         const double exact = 0.5 * t * std::exp(-s.depths[i] / mu_w);
         CHECK(within_se(r.irradiance[i][Ed], exact));
         CHECK(r.irradiance[i][Eu].value == 0.0);
-        // The direct beam's scalar irradiance is Ed / mu_w (layer average of exp(-z/mu))
-        if (s.depths[i] > 0) CHECK(within_se(r.irradiance[i][Eod], exact / mu_w, 5.0));
+        // The direct beam's scalar irradiance is Ed / mu_w, on the surface too: the detector
+        // scores each crossing at the plane itself (irradiance_planes.hpp).
+        CHECK(within_se(r.irradiance[i][Eod], exact / mu_w, 5.0));
     }
     CHECK(r.records.empty());
 }
@@ -228,75 +229,78 @@ TEST_CASE("A run given an earlier map's records writes into their memory and giv
 }
 
 namespace {
-/// The detectors' tally without skipping missed layers: every layer's track computed.
-void reference_record(const std::vector<double>& planes, const std::vector<std::pair<double, double>>& layers,
-                      double thickness, const Flight& f, IrradianceTally* tally) {
+/// The detectors' tally written out plainly: every plane tested, every crossing scored.
+void reference_record(const std::vector<double>& planes, double grazing, const Flight& f, IrradianceTally* tally) {
+    const double score = std::abs(f.uz) >= grazing ? 1.0 / std::abs(f.uz) : 2.0 / grazing;
     for (std::size_t i = 0; i < planes.size(); ++i) {
         const double d = planes[i];
-        if (f.uz > 0.0 && f.z0 <= d && d < f.z1) tally[i][Ed] += f.w;
-        if (f.uz < 0.0 && f.z1 <= d && d < f.z0) tally[i][Eu] += f.w;
-        const auto [lo, hi] = layers[i];
-        double ta = 0.0, tb = 0.0;
-        if (f.uz == 0.0) {
-            if (f.z0 >= lo && f.z0 <= hi) tb = f.s;
-        } else {
-            ta = (lo - f.z0) / f.uz;
-            tb = (hi - f.z0) / f.uz;
-            if (ta > tb) std::swap(ta, tb);
-            ta = std::max(ta, 0.0);
-            tb = std::min(tb, f.s);
+        if (f.uz > 0.0 && f.z0 <= d && d < f.z1) {
+            tally[i][Ed] += f.w;
+            tally[i][Eod] += f.w * score;
         }
-        if (tb > ta) tally[i][f.uz >= 0.0 ? Eod : Eou] += f.w * (tb - ta) / thickness;
+        if (f.uz < 0.0 && f.z1 <= d && d < f.z0) {
+            tally[i][Eu] += f.w;
+            tally[i][Eou] += f.w * score;
+        }
     }
 }
 }  // namespace
 
-TEST_CASE("Irradiance layers: skipping the layers a flight misses changes no tally") {
+TEST_CASE("Irradiance planes: every crossing scores w (plane) and w / |mu| (scalar), 2 / mu_c when grazing") {
     const std::vector<double> depths{0.0, 0.5, 1.0, 5.0, 29.99};
-    const double thickness = 0.02, floor_depth = 30.0;
-    const IrradianceLayers layers(depths, thickness, floor_depth);
-    // The layers and planes as the constructor places them.
-    std::vector<std::pair<double, double>> lh;
-    std::vector<double> planes;
-    for (double z : depths) {
-        const double lo = std::min(std::max(0.0, z - 0.5 * thickness), floor_depth - thickness);
-        lh.push_back({lo, lo + thickness});
-        planes.push_back(std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12));
-    }
-    // Random flights, and flights ending within a few ulps of a layer edge (from either side,
-    // either direction), where skipping would be wrong if its margin were too small.
+    const double grazing = 0.05, floor_depth = 30.0;
+    const IrradiancePlanes planes(depths, grazing, floor_depth);
+    std::vector<double> at;  // the planes as the constructor places them (a bottom plane just above the floor)
+    for (double z : depths) at.push_back(std::min(z, floor_depth * (1.0 - 1e-12) - 1e-12));
+    // Random flights, grazing ones, and flights ending within a few ulps of a plane (from
+    // either side, either direction), where the half-open crossing rule decides.
     std::vector<Flight> flights;
     PhotonRng rng(8, 0);
     for (int k = 0; k < 200000; ++k) {
-        const double z0 = 6.0 * rng.uniform(), uz = 2.0 * rng.uniform() - 1.0, s = -std::log(rng.uniform());
+        const double z0 = 6.0 * rng.uniform(), uz = (2.0 * rng.uniform() - 1.0) * (k % 4 ? 1.0 : 0.1);
+        const double s = -std::log(rng.uniform());
         flights.push_back({z0, z0 + uz * s, uz, s, 1.0});
     }
-    for (const auto& [lo, hi] : lh)
-        for (double edge : {lo, hi})
-            for (int k = 0; k < 2000; ++k) {
-                const double uz = (rng.uniform() < 0.5 ? -1.0 : 1.0) * std::pow(rng.uniform(), 4);
-                double s = std::abs(0.3 * rng.uniform() / uz);
-                double end = std::nextafter(edge, k % 2 ? 1e9 : -1e9);
-                for (int j = 0; j < k % 5; ++j) end = std::nextafter(end, k % 2 ? 1e9 : -1e9);
-                const double z0 = std::max(0.0, end - uz * s);
-                s = (end - z0) / uz;
-                if (!(s > 0.0)) continue;
-                flights.push_back({z0, z0 + uz * s, uz, s, 1.0});
-            }
-    flights.push_back({1.0, 1.0, 0.0, 2.0, 1.0});     // horizontal, inside a layer
-    flights.push_back({0.7, 0.7, 0.0, 2.0, 1.0});     // horizontal, outside
-    long nonzero = 0;
+    for (double edge : at)
+        for (int k = 0; k < 2000; ++k) {
+            const double uz = (rng.uniform() < 0.5 ? -1.0 : 1.0) * std::pow(rng.uniform(), 4);
+            double s = std::abs(0.3 * rng.uniform() / uz);
+            double end = std::nextafter(edge, k % 2 ? 1e9 : -1e9);
+            for (int j = 0; j < k % 5; ++j) end = std::nextafter(end, k % 2 ? 1e9 : -1e9);
+            if (k % 7 == 0) end = edge;
+            const double z0 = std::max(0.0, end - uz * s);
+            s = (end - z0) / uz;
+            if (!(s > 0.0)) continue;
+            flights.push_back({z0, z0 + uz * s, uz, s, 1.0});
+        }
+    flights.push_back({1.0, 1.0, 0.0, 2.0, 1.0});  // level, on a plane: crosses nothing
+    long grazing_hits = 0, hits = 0;
     for (const Flight& f : flights) {
         std::vector<IrradianceTally> a(depths.size()), b(depths.size());
-        layers.record(f, NoAbsorption{}, a.data());
-        reference_record(planes, lh, thickness, f, b.data());
+        planes.record(f, NoAbsorption{}, a.data());
+        reference_record(at, grazing, f, b.data());
         for (std::size_t i = 0; i < depths.size(); ++i) {
-            nonzero += b[i][Eod] + b[i][Eou] > 0.0;
+            hits += b[i][Ed] + b[i][Eu] > 0.0;
+            grazing_hits += (b[i][Ed] + b[i][Eu] > 0.0) && std::abs(f.uz) < grazing;
             for (int k = 0; k < 4; ++k)
-                if (a[i][k] != b[i][k]) FAIL("z0 " << f.z0 << " uz " << f.uz << " s " << f.s << ": layer " << i);
+                if (a[i][k] != b[i][k]) FAIL("z0 " << f.z0 << " uz " << f.uz << " s " << f.s << ": plane " << i);
         }
     }
-    CHECK(nonzero > 1000);
+    CHECK(hits > 10000);
+    CHECK(grazing_hits > 100);
+}
+
+TEST_CASE("Irradiance planes: the grazing score is the mean of 1/|mu| over the band for a constant radiance") {
+    // Crossings of a plane under a radiance constant over the band |mu| < mu_c come with
+    // density proportional to mu: the mean of 1/mu is int_0^mu_c (1/mu) mu dmu / int_0^mu_c mu dmu.
+    const IrradiancePlanes planes({1.0}, 0.05, INFINITY);
+    const double mu_c = planes.grazing_cosine();
+    const double mean = mu_c / (0.5 * mu_c * mu_c);  // = 2 / mu_c
+    CHECK(planes.inverse_cosine(0.01) == Approx(mean).epsilon(1e-15));
+    CHECK(planes.inverse_cosine(-0.049) == Approx(mean).epsilon(1e-15));
+    CHECK(planes.inverse_cosine(0.05) == Approx(20.0).epsilon(1e-15));
+    CHECK(planes.inverse_cosine(-0.5) == Approx(2.0).epsilon(1e-15));
+    CHECK_THROWS_WITH(IrradiancePlanes({1.0}, 0.0, INFINITY), Catch::Contains("grazing cosine"));
 }
 
 TEST_CASE("Record chunks keep every record, in order") {

@@ -1,13 +1,17 @@
 #pragma once
 // In-scattered radiance along a ray from the photon map (the second pass, manual 3.4-3.5):
-//   L(r_a) = sum over collected photons of Phi * pbar_omega(psi) * w_i * exp(-c t)  (eq. 3.18 / 3.22)
-// where Phi is the flux per map photon, pbar_omega the phase function averaged over the
-// collection solid angle omega around the scattering direction (eq. 3.5), w_i the
-// collection volume's length/volume weight, and t the photon's distance along the ray from
-// the ray's start (the attenuation to the ray's end point, where the radiance is wanted).
+//   L(r_a) = sum over collected photons of Phi(z) * pbar_omega(psi) * w_i * exp(-c' t)  (eq. 3.18 / 3.22)
+// where Phi(z) is the flux of a record stored at depth z (the map's own normalisation,
+// transport/record_flux.hpp: Phi, or Phi / I(z) under depth importance), pbar_omega the phase
+// function averaged over the collection solid angle omega around the scattering direction
+// (eq. 3.5), w_i the collection volume's length/volume weight, and t the photon's distance
+// along the ray from the ray's start (the attenuation to the ray's end point, where the
+// radiance is wanted). c' = c - b f is the ray's attenuation when the phase function's peak
+// within the cone (a share f of the scattering) is transmitted along the ray rather than
+// collected (optics/phase/cone_average.hpp); c where it is averaged.
 // Photons are stored at scattering events, so the map density is b E_o: no extra factor b.
-// In stratified water pbar_omega is the mixture at the photon's depth (eq. 5.5) and exp(-c t)
-// becomes exp(-int c dt) along the ray: the RayOptics policy supplies both.
+// In stratified water pbar_omega is the mixture at the photon's depth (eq. 5.5) and exp(-c' t)
+// becomes exp(-int c' dt) along the ray: the RayOptics policy supplies both.
 // Standard error: each photon belongs to one of B batches; each batch alone is an estimate
 // with flux B * Phi per photon.
 //
@@ -28,7 +32,7 @@
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/chord_table.hpp"
-#include "secchi/transport/importance.hpp"
+#include "secchi/transport/record_flux.hpp"
 #include "secchi/transport/parallel.hpp"
 #include <algorithm>
 #include <array>
@@ -51,10 +55,12 @@ struct RadianceEstimate {
 };
 
 /// The water's part of eq. 3.18 for one photon: in_scatter(z, cos_psi, ray, t) =
-/// pbar_omega(psi) at the photon's depth z times the transmittance from the ray's start over t.
+/// pbar_omega(psi) at the photon's depth z times the ray's transmittance from its start over t,
+/// transmittance(ray, t), which also carries light from where the ray ends (a bottom).
 template <class O>
 concept RayOptics = requires(const O o, double z, double cos_psi, Ray ray, double t) {
     { o.in_scatter(z, cos_psi, ray, t) } -> std::convertible_to<double>;
+    { o.transmittance(ray, t) } -> std::convertible_to<double>;
 };
 
 /// cos psi for each of the 256 values of a record's polar code, along one ray.
@@ -99,21 +105,30 @@ CodedCosines vertical_cosines(double uz) {
 }
 }  // namespace detail
 
-/// Homogeneous water: one cone-averaged phase function and exp(-c t). The phase function is
-/// looked up in a ChordTable (no acos per photon; optics/phase/chord_table.hpp).
+/// Homogeneous water: one cone-averaged phase function and exp(-c' t), c' = c - b f with f
+/// the share of the scattering the cone transmits (its transmitted_fraction(); 0 when the
+/// peak is averaged). The phase function is looked up in a ChordTable (no acos per photon;
+/// optics/phase/chord_table.hpp).
 struct HomogeneousRayOptics {
+    /// cone: a ConeAveragedPhase (or anything with eval(cos_psi) and transmitted_fraction());
+    /// c, b: the water's attenuation and scattering coefficients (1/m).
     template <class ConePhase>
-    HomogeneousRayOptics(const ConePhase& cone, double attenuation_) : phase(cone), attenuation(attenuation_) {}
+    HomogeneousRayOptics(const ConePhase& cone, double c, double b)
+        : phase(cone), attenuation(c - b * cone.transmitted_fraction()) {
+        require(std::isfinite(c) && std::isfinite(b) && b >= 0.0 && b <= c, "scattering coefficient b (1/m)", b,
+                "must lie in [0, c] (c = " + std::to_string(c) + ")");
+    }
     ChordTable phase;
-    double attenuation;
+    double attenuation;  ///< c' (1/m): the ray's attenuation
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
         return along_path(phase.eval(cos_psi), z, ray, t);
     }
-    /// The phase value p times the rest of eq. 3.18: the transmittance exp(-c t). (The one
+    /// The phase value p times the rest of eq. 3.18: the transmittance exp(-c' t). (The one
     /// place of that product: for_cosines' lookups stay bit-identical to in_scatter.)
-    [[nodiscard]] double along_path(double p, double, const Ray&, double t) const {
-        return p * exp_table(-attenuation * t);
+    [[nodiscard]] double along_path(double p, double, const Ray& ray, double t) const {
+        return p * transmittance(ray, t);
     }
+    [[nodiscard]] double transmittance(const Ray&, double t) const { return exp_table(-attenuation * t); }
 
     /// For one ray with only 256 values of cos psi (CodedRayOptics): the phase function at each.
     struct Coded {
@@ -147,33 +162,41 @@ struct HomogeneousRayOptics {
 };
 
 /// Depth-varying water (a StratifiedWater): the components' cone-averaged phase functions
-/// weighted by b_i(z) / b(z) (eq. 5.5-5.6), and exp(-int c) along the ray. With depth
-/// importance in the first pass, a photon stored at depth z carries the flux Phi / I(z).
+/// weighted by b_i(z) / b(z) (eq. 5.5-5.6), and exp(-int c' dt) along the ray, with
+/// c'(z) = c(z) - sum_i b_i(z) f_i (f_i: the share of component i's scattering its cone transmits).
 template <class Water>
 struct StratifiedRayOptics {
     /// cones: one cone-averaged phase function per scattering component, in order (as many as
     /// the water has, where it says: water.components()).
     template <class ConePhase>
-    StratifiedRayOptics(const Water& water_, const std::vector<ConePhase>& cones, ImportanceLevels importance_ = {})
-        : water(water_), phases(cones.begin(), cones.end()), importance(importance_) {
+    StratifiedRayOptics(const Water& water_, const std::vector<ConePhase>& cones)
+        : water(water_), phases(cones.begin(), cones.end()) {
         if constexpr (requires { water_.components(); })
             require(cones.size() == water_.components(), "cones", cones.size(),
                     "needs one cone-averaged phase function per scattering component of the water");
         if constexpr (max_components > 0)
             require(cones.size() <= max_components, "cones", cones.size(), "exceeds the water's max_components");
+        for (const auto& cone : cones) transmitted.push_back(cone.transmitted_fraction());
     }
     const Water& water;
     std::vector<ChordTable> phases;
-    ImportanceLevels importance;  ///< the first pass's (transport/importance.hpp)
+    std::vector<double> transmitted;  ///< f_i of each component's cone
     [[nodiscard]] double in_scatter(double z, double cos_psi, const Ray& ray, double t) const {
         return along_path(water.mixture(z, [&](std::size_t i) { return phases[i].eval(cos_psi); }), z, ray, t);
     }
-    /// The mixture's phase value p at depth z times the rest of eq. 3.18: exp(-int c dt) over
-    /// the ray's first t metres and 1 / I(z). (The one place of that product: for_cosines'
+    /// The mixture's phase value p at depth z times the rest of eq. 3.18: the ray's
+    /// transmittance over its first t metres. (The one place of that product: for_cosines'
     /// lookups stay bit-identical to in_scatter.)
-    [[nodiscard]] double along_path(double p, double z, const Ray& ray, double t) const {
-        const double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
-        return p * exp_table(-tau) / importance.factor(z);
+    [[nodiscard]] double along_path(double p, double, const Ray& ray, double t) const {
+        return p * transmittance(ray, t);
+    }
+    /// exp(-int_0^t c' dt') along the ray.
+    [[nodiscard]] double transmittance(const Ray& ray, double t) const {
+        double tau = water.optical_path(Coefficient::attenuation, ray.origin.z, ray.direction.z, t);
+        for (std::size_t i = 0; i < transmitted.size(); ++i)
+            if (transmitted[i] > 0.0)
+                tau -= transmitted[i] * water.component_optical_path(i, ray.origin.z, ray.direction.z, t);
+        return exp_table(-tau);
     }
 
     /// Up to this many components can be tabulated per ray (for_cosines); 0: none.
@@ -207,10 +230,12 @@ struct StratifiedRayOptics {
 template <class Store, CollectionVolume Volume, RayOptics Optics>
 class PathRadianceEstimator {
 public:
-    PathRadianceEstimator(const Store& store, Volume volume, Optics optics, double flux_per_photon, unsigned batches,
+    /// flux: the map's own normalisation (TransportResult::map_flux; RecordFlux::uniform(Phi)
+    /// for a map of equal-flux records made otherwise).
+    PathRadianceEstimator(const Store& store, Volume volume, Optics optics, const RecordFlux& flux, unsigned batches,
                           Radius radius)
         : store_(store), volume_(std::move(volume)), optics_(std::make_shared<const Optics>(std::move(optics))),
-          tables_(vertical_tables()), flux_(flux_per_photon), batches_(batches), radius_(radius) {
+          tables_(vertical_tables()), flux_(flux), batches_(batches), radius_(radius) {
         require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
         // Every photon's batch must have its sum: a batch index >= batches would be summed
         // outside batch_sums (once per store, O(N), far below the store's own build).
@@ -251,7 +276,7 @@ public:
             for (unsigned b = 0; b < batches_; ++b) batch[b] += per_ray[i][b];
             out.photons_touched += touched[i];
         }
-        const double scale = flux_ * batches_ / static_cast<double>(rays.size());
+        const double scale = flux_.per_record * batches_ / static_cast<double>(rays.size());
         for (double& v : batch) v *= scale;
         out.radiance = batch_estimate(batch);
         out.rays = rays.size();
@@ -280,8 +305,15 @@ private:
     }
 
     /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays), else the
-    /// per-photon one.
+    /// per-photon one. A ray whose collection volume reaches below the depth the map stored
+    /// events to is refused: its estimate would miss photons.
     std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums) const {
+        const double deepest = std::max(ray.origin.z, ray.origin.z + ray.t_max * ray.direction.z) +
+                               radius_.value() * sin_from_cos(ray.direction.z);
+        if (deepest > flux_.stored_to_depth)
+            reject("ray depth (m)", deepest,
+                   "lies below the depth the photon map stored events to (" + std::to_string(flux_.stored_to_depth) +
+                       " m): trace with a deeper TransportSettings::map_depth");
         if constexpr (coded_rays)
             if (is_vertical(ray)) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
         return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
@@ -290,15 +322,20 @@ private:
         });
     }
 
+    /// The flux of a record at depth z relative to the map's per_record (1 / I(z)).
+    [[nodiscard]] double relative_flux(double z) const { return flux_.is_uniform() ? 1.0 : flux_.at(z) / flux_.per_record; }
+
     /// The same sum on a vertical ray: cos psi from the photon's polar code through the table
     /// of the ray's direction (vertical_cosines; bit-identical to the per-photon formula).
     template <class Coded>
     std::uint64_t accumulate_coded(const Ray& ray, std::span<double> batch_sums, const Coded& coded) const {
 #if SECCHI_HAS_LANES
         if constexpr (requires(const std::uint8_t* k, const double* t, double* out) { coded.in_scatter_lanes(k, t, out); }) {
-            CodedRuns<Coded> sum{store_.records(), coded, ray, batch_sums};
-            volume_.gather(store_, ray, radius_, sum);
-            return sum.touched;
+            if (flux_.is_uniform()) {
+                CodedRuns<Coded> sum{store_.records(), coded, ray, batch_sums};
+                volume_.gather(store_, ray, radius_, sum);
+                return sum.touched;
+            }
         }
 #endif
         return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
@@ -346,14 +383,16 @@ private:
     };
 #endif
 
-    /// batch_sums[batch] += weight * in_scatter(record, t) over the photons the volume collects.
+    /// batch_sums[batch] += weight * in_scatter(record, t) (times the record's relative flux)
+    /// over the photons the volume collects.
     template <class InScatter>
     std::uint64_t sum_photons(const Ray& ray, std::span<double> batch_sums, InScatter&& in_scatter) const {
         std::uint64_t touched = 0;
         const auto& records = store_.records();
         volume_.gather(store_, ray, radius_, [&](std::uint32_t index, double t, double weight) {
             const auto& rec = records[index];
-            batch_sums[rec.batch()] += weight * in_scatter(rec, t);
+            const double w = flux_.is_uniform() ? weight : weight * relative_flux(rec.position().z);
+            batch_sums[rec.batch()] += w * in_scatter(rec, t);
             ++touched;
         });
         return touched;
@@ -364,7 +403,7 @@ private:
     /// On the heap, so that the tables' references to it hold in every copy of the estimator.
     std::shared_ptr<const Optics> optics_;
     std::shared_ptr<const VerticalTables> tables_;  ///< vertical_tables(), built once
-    double flux_;
+    RecordFlux flux_;
     unsigned batches_;
     Radius radius_;
 };

@@ -60,6 +60,7 @@ public:
             cumulative_[c] = cumulate(k_[c]);
             index_cumulative(c);
         }
+        for (const auto& bi : b_i_) component_cumulative_.push_back(cumulate(bi));
         detect_uniform_spacing();
     }
 
@@ -73,19 +74,16 @@ public:
     [[nodiscard]] double component_scattering(std::size_t i, double z) const { return interpolate(b_i_[i], z); }
     /// Optical depth from the surface to z, K(z) = int_0^z k dz'.
     [[nodiscard]] double optical_depth(Coefficient k, double z) const {
-        const auto& kk = k_[index(k)];
-        const auto& cum = cumulative_[index(k)];
-        const std::size_t j = cell(z);
-        const double x = z - z_[j];
-        if (j + 1 == z_.size() || x <= 0.0) return cum[j] + kk[j] * x;
-        const double slope = (kk[j + 1] - kk[j]) / (z_[j + 1] - z_[j]);
-        return cum[j] + x * (kk[j] + 0.5 * slope * x);
+        return integral_to(k_[index(k)], cumulative_[index(k)], z);
     }
 
     [[nodiscard]] double optical_path(Coefficient k, double z, double uz, double s) const {
-        const double z1 = z + uz * s;
-        if (std::abs(uz) < horizontal) return coefficient(k, 0.5 * (z + z1)) * s;
-        return (optical_depth(k, z1) - optical_depth(k, z)) / uz;
+        return path_of(k_[index(k)], cumulative_[index(k)], z, uz, s);
+    }
+    /// int b_i over a flight of length s from depth z with direction cosine uz: component i's
+    /// scattering optical path.
+    [[nodiscard]] double component_optical_path(std::size_t i, double z, double uz, double s) const {
+        return path_of(b_i_[i], component_cumulative_[i], z, uz, s);
     }
 
     [[nodiscard]] double distance_to(Coefficient k, double z, double uz, double tau) const {
@@ -205,6 +203,22 @@ private:
 
     [[nodiscard]] double interpolate(const std::vector<double>& v, double z) const { return interpolate_in(v, cell(z), z); }
 
+    /// int_0^z k dz' for the profile k at the nodes (linear between them) with cumulative cum.
+    [[nodiscard]] double integral_to(const std::vector<double>& kk, const std::vector<double>& cum, double z) const {
+        const std::size_t j = cell(z);
+        const double x = z - z_[j];
+        if (j + 1 == z_.size() || x <= 0.0) return cum[j] + kk[j] * x;
+        const double slope = (kk[j + 1] - kk[j]) / (z_[j + 1] - z_[j]);
+        return cum[j] + x * (kk[j] + 0.5 * slope * x);
+    }
+    /// The profile's optical path over a flight (a level one at its mid-depth value).
+    [[nodiscard]] double path_of(const std::vector<double>& kk, const std::vector<double>& cum, double z, double uz,
+                                 double s) const {
+        const double z1 = z + uz * s;
+        if (std::abs(uz) < horizontal) return interpolate(kk, 0.5 * (z + z1)) * s;
+        return (integral_to(kk, cum, z1) - integral_to(kk, cum, z)) / uz;
+    }
+
     [[nodiscard]] double interpolate_in(const std::vector<double>& v, std::size_t j, double z) const {
         if (j + 1 == z_.size() || z <= z_[j]) return v[j];
         return v[j] + (v[j + 1] - v[j]) * (z - z_[j]) / (z_[j + 1] - z_[j]);
@@ -260,6 +274,7 @@ private:
     std::array<double, 3> bin_width_{};               ///< index_cumulative's bins
     std::array<std::vector<std::size_t>, 3> bin_node_;
     std::vector<std::vector<double>> b_i_;
+    std::vector<std::vector<double>> component_cumulative_;  ///< int b_i at the nodes
     std::vector<Phase> phases_;
     double inverse_spacing_ = 0.0;  ///< 1 / h for equally spaced nodes, else 0
 };

@@ -73,10 +73,12 @@ struct PlaneParallelConfig {
     double radius = 0.05;          ///< collection radius (m)
     unsigned steps = 64;           ///< k-d tree: spheres along each ray (eq. 3.18)
     double omega = 0.005;          ///< collection solid angle (sr), eq. 3.5
-    double ray_length = 8.0;       ///< m; Lu integrates the path radiance over this length (or to the bottom)
+    ConePeak cone_peak = ConePeak::transmitted;  ///< the phase function's peak within the cone (cone_average.hpp)
+    /// Lu integrates the path radiance along each ray down to where the ray's transmittance
+    /// has fallen to this (the light beyond adds at most about this share), or to the bottom.
+    double ray_transmittance = 1e-4;
     unsigned ray_grid = 10;        ///< K x K vertical rays per depth
     double section_width = 1.0;    ///< m, periodic horizontal section
-    double escape_margin = 20.0;   ///< attenuation lengths below the deepest ray end where photons stop (deep water)
     bool keep_map = false;         ///< return the stored records (for images)
     TracerKind tracer = TracerKind::photon;
 };
@@ -135,23 +137,43 @@ TransportResult<Record> first_pass(const M& medium, const Slab& slab, const Plan
 
 /// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the
 /// bottom with the same radiance A Ed / pi in every upward direction, so Eou = 2 pi A Ed / pi =
-/// 2 Eu exactly, Eu being the flux the bottom's plane counts leaving it. (The track-length layer,
-/// which ends at the bottom, sees the grazing part of that light attenuated within its thickness
-/// D: 4 % low for c D = 0.02. M93's problem 6 checks Eou = Ed at its bottom, where A = 0.5.)
+/// 2 Eu exactly, Eu being the flux the bottom's plane counts leaving it. (The plane's own
+/// crossing estimate, the sum of w / |mu| over the light leaving the bottom, has the same mean
+/// and a larger variance. M93's problem 6 checks Eou = Ed at its bottom, where A = 0.5.)
 inline void eou_on_lambertian_bottom(const Bottom& bottom, std::vector<DepthResult>& depths) {
     if (bottom.kind != BottomKind::lambertian) return;
     for (auto& d : depths)
         if (d.depth >= bottom.depth) d.irradiance[Eou] = {2.0 * d.irradiance[Eu].value, 2.0 * d.irradiance[Eu].se};
 }
 
-/// Lu at every depth from a built store with the store's natural collection volume.
-template <class Store, CollectionVolume Volume, Medium M, RayOptics Optics, class Record>
-void estimate_lu(const Store& store, const Volume& volume, const M& medium, const Optics& optics,
-                 const PlaneParallelConfig& cfg, const Slab& slab, const TransportResult<Record>& tr,
-                 PlaneParallelResult& out) {
-    const PathRadianceEstimator est(store, volume, optics, tr.flux_per_map_photon, tr.batches, Radius(cfg.radius));
+/// The length of the nadir ray from depth z: down to where the optics' transmittance falls to
+/// cfg.ray_transmittance (found by bisection on the monotone transmittance), or to the bottom.
+template <RayOptics Optics>
+double nadir_ray_length(const Optics& optics, double z, const PlaneParallelConfig& cfg) {
+    const double to_bottom = cfg.bottom.kind == BottomKind::none ? INFINITY : cfg.bottom.depth - z;
+    const Ray ray{{0.0, 0.0, z}, {0.0, 0.0, 1.0}, INFINITY};
+    const auto beyond = [&](double t) { return optics.transmittance(ray, t) <= cfg.ray_transmittance; };
+    double hi = 1.0;
+    while (!beyond(hi) && hi < to_bottom) {
+        hi *= 2.0;
+        require(hi < 1e7, "ray transmittance", cfg.ray_transmittance, "is not reached within 1e7 m: the water is too clear");
+    }
+    if (!beyond(hi)) return to_bottom;
+    double lo = 0.0;
+    for (int i = 0; i < 60 && hi - lo > 1e-9 * hi; ++i) (beyond(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+    return std::min(hi, to_bottom);
+}
+
+/// Lu at every depth from a built store with the store's natural collection volume: the path
+/// radiance along each nadir ray (eq. 3.18), plus, where the ray ends on a Lambertian bottom,
+/// the bottom's radiance A Ed(bottom) / pi carried up by the ray's transmittance (eq. 3.18's
+/// boundary term; the same transmittance as the path radiance's).
+template <class Store, CollectionVolume Volume, RayOptics Optics, class Record>
+void estimate_lu(const Store& store, const Volume& volume, const Optics& optics, const PlaneParallelConfig& cfg,
+                 const TransportResult<Record>& tr, PlaneParallelResult& out) {
+    const PathRadianceEstimator est(store, volume, optics, tr.map_flux, tr.batches, Radius(cfg.radius));
     for (auto& d : out.depths) {
-        const double length = std::min(cfg.ray_length, slab.floor_depth() - d.depth);
+        const double length = nadir_ray_length(optics, d.depth, cfg);
         if (length > 0.0) {
             const auto r = est.estimate(nadir_ray_grid(d.depth, length, cfg.ray_grid, cfg.section_width),
                                         cfg.transport.threads);
@@ -159,9 +181,8 @@ void estimate_lu(const Store& store, const Volume& volume, const M& medium, cons
             d.photons_touched = r.photons_touched;
         }
         if (cfg.bottom.kind == BottomKind::lambertian && d.depth + length >= cfg.bottom.depth) {
-            // Light reflected by the Lambertian bottom: L = A Ed(bottom) / pi, attenuated to z.
-            const double tau = medium.optical_path(Coefficient::attenuation, d.depth, 1.0, cfg.bottom.depth - d.depth);
-            const double att = std::exp(-tau) * cfg.bottom.albedo / pi;
+            const Ray ray{{0.0, 0.0, d.depth}, {0.0, 0.0, 1.0}, length};
+            const double att = optics.transmittance(ray, cfg.bottom.depth - d.depth) * cfg.bottom.albedo / pi;
             d.lu.value += att * tr.bottom_ed.value;
             d.lu.se = std::hypot(d.lu.se, att * tr.bottom_ed.se);
         }
@@ -177,15 +198,16 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
     const auto t0 = std::chrono::steady_clock::now();
     require(cfg.radius > 0 && 2.0 * cfg.radius * cfg.ray_grid <= cfg.section_width, "radius", cfg.radius,
             "must be > 0 and at most section_width / (2 ray_grid) so the ray cylinders stay inside the section");
-    double deepest = 0.0;
-    for (double z : cfg.transport.depths) deepest = std::max(deepest, z);
-    // Infinitely deep water: photons that sink escape_margin attenuation lengths (of the water
-    // at the deepest ray's end) below it stop. Their return to the detectors is attenuated at
-    // least by the diffuse attenuation both ways, exp(-2 K margin); K is as small as 0.2 c in
-    // clear forward-scattering water (problem 2a), so the default margin of 20 leaves < 1e-3.
-    const double ray_end = deepest + cfg.ray_length;
-    const double escape = ray_end + cfg.escape_margin / medium.coefficient(Coefficient::attenuation, ray_end);
-    const Slab slab(cfg.section_width, cfg.bottom, escape);
+    require(cfg.ray_transmittance > 0.0 && cfg.ray_transmittance < 1.0, "ray transmittance", cfg.ray_transmittance,
+            "must lie in (0, 1)");
+    // Infinitely deep water is traced without a cut-off (photons end by absorption and roulette);
+    // the map keeps the events down to the deepest Lu ray's end, plus the collection radius.
+    if (cfg.transport.map_photons > 0) {
+        double map_depth = 0.0;
+        for (double z : cfg.transport.depths) map_depth = std::max(map_depth, z + detail::nadir_ray_length(optics, z, cfg));
+        cfg.transport.map_depth = map_depth + cfg.radius;
+    }
+    const Slab slab(cfg.section_width, cfg.bottom);
     auto tr = detail::first_pass<Record>(medium, slab, cfg);
 
     PlaneParallelResult out;
@@ -193,7 +215,7 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
     out.photons_stored = tr.records.size();
     out.ledger = tr.ledger;
     out.bottom_ed = tr.bottom_ed;
-    out.flux_per_map_photon = tr.flux_per_map_photon;
+    out.flux_per_map_photon = tr.map_flux.per_record;
     out.seconds_transport = detail::seconds_since(t0);
     for (std::size_t i = 0; i < tr.depths.size(); ++i) out.depths.push_back({tr.depths[i], tr.irradiance[i], {}, 0});
     detail::eou_on_lambertian_bottom(cfg.bottom, out.depths);
@@ -206,7 +228,7 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
         auto run = [&](const auto& store, const auto& volume) {
             out.store_bytes = store.memory_bytes();
             out.seconds_build = detail::seconds_since(t0) - out.seconds_transport;
-            detail::estimate_lu(store, volume, medium, optics, cfg, slab, tr, out);
+            detail::estimate_lu(store, volume, optics, cfg, tr, out);
         };
         switch (cfg.store) {
             case StoreKind::kdtree: run(KdTreeStore<Record>(std::move(tr.records)), spheres); break;
@@ -227,8 +249,8 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
 template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
 PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallelConfig& cfg) {
     const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
-    const ConeAveragedPhase<Phase> cone(phase, cfg.omega);
-    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics(cone, medium.attenuation()), cfg);
+    const ConeAveragedPhase<Phase> cone(phase, cfg.omega, cfg.cone_peak);
+    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics(cone, medium.attenuation(), medium.scattering()), cfg);
     out.phase_name = phase.name();
     out.moments = phase_moments(phase);
     return out;
@@ -238,8 +260,8 @@ PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallel
 template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
 PlaneParallelResult solve_stratified(const StratifiedWater<Phase>& water, const PlaneParallelConfig& cfg) {
     std::vector<ConeAveragedPhase<Phase>> cones;
-    for (const auto& p : water.phases()) cones.emplace_back(p, cfg.omega);
-    const StratifiedRayOptics optics(water, cones, ImportanceLevels(cfg.transport.importance, water));
+    for (const auto& p : water.phases()) cones.emplace_back(p, cfg.omega, cfg.cone_peak);
+    const StratifiedRayOptics optics(water, cones);
     auto out = solve_plane_parallel_in<Record>(water, optics, cfg);
     out.phase_name = "mixture";
     for (const auto& p : water.phases()) {

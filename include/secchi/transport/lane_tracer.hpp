@@ -4,7 +4,7 @@
 // bottom, detectors, energy ledger) traced for lanes::lane_width photons at once. The step
 // every photon takes between events (free path, flight, absorption, storage, phase
 // sampling, rotation) runs on SIMD vectors, one photon per lane; what only some photons
-// meet (surface, bottom, a detector's layer, roulette, the end of a photon and the start of
+// meet (surface, bottom, a detector's plane, roulette, the end of a photon and the start of
 // the next) goes through PhotonTracer's own per-photon functions, lane by lane.
 //
 // Same problem, same estimates (within their standard errors; tests/test_lane_tracer.cpp),
@@ -118,7 +118,7 @@ private:
 
     void trace_block(const detail::Block& block, detail::BlockResult<Record>& out) const {
         Lanes lanes{};
-        lanes.tally.assign(this->layers_.size(), {Reals(Real(0)), Reals(Real(0)), Reals(Real(0)), Reals(Real(0))});
+        lanes.tally.assign(this->planes_.size(), {Reals(Real(0)), Reals(Real(0)), Reals(Real(0)), Reals(Real(0))});
         Launches launches;
         launches.first = block.begin;
         for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out.ledger);
@@ -285,12 +285,12 @@ private:
                            detail::BlockResult<Record>& out) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         if (!this->continuous_) {
-            this->layers_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
+            this->planes_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
         } else {
             using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
-            const Mask tallies = alive && this->layers_.may_tally(min(z, z1), max(z, z1), abs(z) + abs(z1));
+            const Mask tallies = alive && this->planes_.may_tally(min(z, z1), max(z, z1));
             lanes::for_each(tallies, [&](int l) {
-                this->layers_.record(Flight{depth(L.z[l]), depth(z1[l]), L.dz[l], t[l], L.w[l]}, this->medium_,
+                this->planes_.record(Flight{depth(L.z[l]), depth(z1[l]), L.dz[l], t[l], L.w[l]}, this->medium_,
                                      out.tally.data());
             });
         }
@@ -327,12 +327,14 @@ private:
     }
 
     /// Equal-flux storage (PhotonTracer::store_event without depth importance): every event
-    /// of an analog photon, else with probability equal to the photon's weight. The records
+    /// of an analog photon, else with probability equal to the photon's weight; none below
+    /// the map's depth. The records
     /// are made for all lanes at once (LaneRecords) and the kept ones appended in lane order.
     SECCHI_KERNEL void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
                                     detail::BlockResult<Record>& out) const {
         Mask keep = scatters && Mask(L.stores, aligned);
         if (this->s_.absorption != AbsorptionMode::analog) keep = keep && u < w;
+        if (std::isfinite(this->s_.map_depth)) keep = keep && Reals(L.z, aligned) <= Real(this->s_.map_depth);
         if (none_of(keep)) return;
         const Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
                             Reals(L.z, aligned)};

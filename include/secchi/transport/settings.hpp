@@ -3,6 +3,7 @@
 // depths, and how absorption and long histories are handled.
 #include "secchi/core/error.hpp"
 #include "secchi/transport/importance.hpp"
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,11 +35,13 @@ inline AbsorptionMode parse_absorption(const std::string& name) {
 struct TransportSettings {
     std::uint64_t photons = 1'000'000;  ///< photons shot (their flux normalises everything: manual 3.3.3)
     std::uint64_t map_photons = 0;      ///< the first photons (by index) whose scattering events are stored; 0 = none
+    double map_depth = INFINITY;        ///< m: events deeper than this are not stored (photons are still traced)
     std::uint64_t seed = 1;
     unsigned threads = 1;
     unsigned batches = 32;              ///< independent batches for standard errors (>= 16 recommended)
     std::vector<double> depths;         ///< irradiance detector depths (m)
-    double layer_thickness = 0.02;      ///< m, scalar-irradiance track-length layer
+    /// Scalar irradiances score a crossing 1/|mu|, or 2/mu_c below this cosine (irradiance_planes.hpp).
+    double grazing_cosine = 0.05;
     AbsorptionMode absorption = AbsorptionMode::continuous;
     /// Cumulative-probability limit (manual 3.3.8, 7.3.2), applied without bias as Russian
     /// roulette: a photon whose weight (its cumulative survival probability) falls below
@@ -56,10 +59,11 @@ struct TransportSettings {
     void validate() const {
         require(photons > 0, "photons", photons, "must be > 0");
         require(map_photons <= photons, "map photons", map_photons, "must not exceed the photons shot");
+        require(map_depth >= 0.0, "map depth (m)", map_depth, "must be >= 0");
         require(threads >= 1, "threads", threads, "must be >= 1");
         require(batches >= 2 && batches <= 256, "batches", batches, "must be in [2, 256]");
         require(photons >= batches, "photons", photons, "must be at least the number of batches");
-        require(layer_thickness > 0.0, "layer thickness", layer_thickness, "must be > 0");
+        require(grazing_cosine > 0.0 && grazing_cosine < 1.0, "grazing cosine", grazing_cosine, "must be in (0, 1)");
         require(roulette_weight >= 0.0 && roulette_weight < 1.0, "roulette weight", roulette_weight, "must be in [0, 1)");
         require(roulette_survival > 0.0 && roulette_survival <= 1.0, "roulette survival", roulette_survival,
                 "must be in (0, 1]");

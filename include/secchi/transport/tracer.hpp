@@ -19,9 +19,10 @@
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
 #include "secchi/transport/blocks.hpp"
-#include "secchi/transport/irradiance_layers.hpp"
+#include "secchi/transport/irradiance_planes.hpp"
 #include "secchi/transport/ledger.hpp"
 #include "secchi/transport/parallel.hpp"
+#include "secchi/transport/record_flux.hpp"
 #include "secchi/transport/settings.hpp"
 #include <algorithm>
 #include <optional>
@@ -37,7 +38,7 @@ struct TransportResult {
     Estimate bottom_ed;                               ///< Ed arriving at the bottom (0 without one)
     EnergyLedger ledger;                              ///< normalised per incident photon
     std::vector<Record> records;                      ///< the photon map, in photon order
-    double flux_per_map_photon = 0;                   ///< W nm^-1: E_d(0+) x section area / map photons
+    RecordFlux map_flux;                              ///< what a record carries (E_d(0+) x area / map photons)
     std::uint64_t photons = 0, map_photons = 0;
     unsigned batches = 0;
 };
@@ -65,10 +66,21 @@ public:
                  TransportSettings settings, UniformSky sky = UniformSky{})
         : medium_(medium), slab_(slab), surface_(surface), sun_(sun), sky_(sky),
           sky_share_(sky_share(sun, sky)), s_(validated(std::move(settings))),
-          layers_(s_.depths, s_.layer_thickness, slab.floor_depth()),
+          planes_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(sun.direction()),
-          sun_hit_(fixed_sun_hit(surface, sun_direction_)) {}
+          sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
+        if (!std::isfinite(slab.floor_depth())) {
+            // Infinitely deep water has no cut-off (light returns from any depth, attenuated by
+            // the diffuse attenuation, which can be far below c): photons end only by absorption
+            // (and Russian roulette on their weight), so the water must absorb at depth.
+            const double a_deep = medium.coefficient(Coefficient::absorption, 1e6);
+            require(a_deep > 0.0, "absorption coefficient at depth (1/m)", a_deep,
+                    "must be > 0 in infinitely deep water (photons end by absorption); give a bottom or an escape depth");
+            require(s_.absorption == AbsorptionMode::analog || s_.roulette_weight > 0.0, "roulette weight",
+                    s_.roulette_weight, "must be > 0 in infinitely deep water (weighted photons end by roulette)");
+        }
+    }
 
     /// Traces the photons. The map's records go into `storage` (cleared first): pass the
     /// records of an earlier run (`std::move(result.records)`) to reuse their memory, which
@@ -89,7 +101,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         detail::ChunkPool<Record> pool;
         std::vector<detail::BlockResult<Record>> results;
         results.reserve(blocks.size());
-        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(layers_.size(), &pool);
+        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(planes_.size(), &pool);
         detail::OrderedRecords<Record> map(blocks, s_.map_photons, std::move(storage));
         parallel_for(blocks.size(), s_.threads, [&](std::size_t i) {
             trace_block(blocks[i], results[i]);
@@ -180,7 +192,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             if (z1 < 0.0) {                               // reaches the surface from below
                 // The flight ends on the surface, z = 0 exactly (z + uz t would round to
                 // either side of it), so that a detector at depth 0 counts it (the half-open
-                // crossing rule of IrradianceLayers::record).
+                // crossing rule of IrradiancePlanes::record).
                 fly(p, -p.pos.z / p.dir.z, 0.0, out);
                 if (!leave_or_reflect_at_surface(p, rng, out.ledger)) return;
                 continue;
@@ -306,8 +318,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// attenuating its weight by exp(-int a ds)).
     void fly(PhotonState& p, double s, double z1, detail::BlockResult<Record>& out) const {
         const Flight flight{p.pos.z, z1, p.dir.z, s, p.w};
-        if (continuous_) layers_.record(flight, medium_, out.tally.data());
-        else layers_.record(flight, NoAbsorption{}, out.tally.data());
+        if (continuous_) planes_.record(flight, medium_, out.tally.data());
+        else planes_.record(flight, NoAbsorption{}, out.tally.data());
         p.pos += p.dir * s;
         p.pos.z = z1;
         if (continuous_) {
@@ -345,16 +357,21 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// Equal-flux storage (manual 3.3.6): the event is stored with probability w (every
     /// record carries the flux Phi of an unweighted photon). With depth importance, the
     /// expected number of copies is w I(z) and a record carries Phi / I(z) (importance.hpp).
+    /// Events below the map's depth (settings.map_depth) are not stored; they draw their
+    /// uniform all the same, so that the photon's later draws do not depend on that depth.
     void store_event(const PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out,
                      std::uint8_t map_batch) const {
         const Record rec = record_of(p, map_batch);
+        const bool kept_depth = p.pos.z <= s_.map_depth;
         if (!importance_on_) {
-            if (s_.absorption == AbsorptionMode::analog || rng.uniform() < p.w) out.records.push_back(rec);
+            if ((s_.absorption == AbsorptionMode::analog || rng.uniform() < p.w) && kept_depth)
+                out.records.push_back(rec);
             return;
         }
         // The flux a record carries is set by its stored (rounded) depth: use the same here.
         const double expected = p.w * levels_.factor(rec.position().z);
         const double copies = std::floor(expected + rng.uniform());
+        if (!kept_depth) return;
         for (double i = 0; i < copies; ++i) out.records.push_back(rec);
     }
 
@@ -382,7 +399,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     TransportResult<Record> merge(const std::vector<detail::Block>& blocks,
                                   const std::vector<detail::BlockResult<Record>>& results,
                                   std::vector<Record> records) const {
-        const std::size_t nd = layers_.size();
+        const std::size_t nd = planes_.size();
         std::vector<std::vector<IrradianceTally>> batch_tally(s_.batches, std::vector<IrradianceTally>(nd));
         std::vector<double> batch_bottom(s_.batches, 0.0), batch_photons(s_.batches, 0.0);
         TransportResult<Record> r;
@@ -402,7 +419,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             for (unsigned b = 0; b < s_.batches; ++b) values[b] = ed0 * value_of_batch(b) / batch_photons[b];
             return batch_estimate(values);
         };
-        r.depths = layers_.depths();
+        r.depths = planes_.depths();
         r.irradiance.resize(nd);
         for (std::size_t d = 0; d < nd; ++d)
             for (int k = 0; k < 4; ++k) r.irradiance[d][k] = estimate([&](unsigned b) { return batch_tally[b][d][k]; });
@@ -415,8 +432,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         r.photons = s_.photons;
         r.map_photons = s_.map_photons;
         r.batches = s_.batches;
-        r.flux_per_map_photon =
-            s_.map_photons ? ed0 * slab_.width() * slab_.width() / static_cast<double>(s_.map_photons) : 0.0;
+        r.map_flux = {s_.map_photons ? ed0 * slab_.width() * slab_.width() / static_cast<double>(s_.map_photons) : 0.0,
+                      levels_, s_.map_depth};
         return r;
     }
 
@@ -427,7 +444,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     UniformSky sky_;
     double sky_share_;  ///< the probability that a photon comes from the sky
     TransportSettings s_;
-    IrradianceLayers layers_;
+    IrradiancePlanes planes_;
     bool continuous_, importance_on_;
     ImportanceLevels levels_;
     double w0_;  ///< the albedo of a depth-independent medium

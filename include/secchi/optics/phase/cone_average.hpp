@@ -15,6 +15,23 @@
 // the shared integrate_solid_angle. L has square-root ends at |psi - alpha| and psi + alpha;
 // panels graded geometrically towards both keep the quadrature accurate there.
 //
+// The forward peak within the cone (ConePeak::transmitted, the default). The estimator's
+// radiance is the cone average of L; eq. 3.18 gathers it from photons whose scattering toward
+// the view carries p. Light scattered by less than the cone's half-angle alpha hardly leaves
+// the view: if L is constant over that cone (the same assumption as the cone average itself,
+// both correct to O(alpha^2) in L's angular curvature), the in-scattering it brings is
+// b f L(xi), with f = 2 pi int_0^alpha p sin dpsi the peak's share of the scattering, and the
+// radiative transfer equation along the ray, dL/dt = -c L + b int p L, becomes
+//     dL/dt = -(c - b f) L + b int p_> L,      p_> = p with the peak (psi < alpha) removed,
+// so that L(0) = int exp(-(c - b f) t) J_>(t) dt + exp(-(c - b f) T) L(T). That is the truncation
+// of Wiscombe's delta-M method (J. Atmos. Sci. 34:1408, 1977) applied along one ray: the peak
+// is transmitted, not collected. The photon estimate of J_> no longer depends on the rare
+// photons travelling within alpha of the view (for Petzold's function a third of the scattering
+// lies within 2.3 deg, and the estimate of its share is dominated by a few photons: a heavy-tailed
+// sum whose typical value lies below its mean). pbar then averages p_> over the cone, and the
+// optics attenuate the ray with c - b f (estimate/path_radiance.hpp). ConePeak::averaged keeps
+// the whole of p in the average (eq. 3.5 as the manual writes it).
+//
 // pbar is tabulated at construction on a psi grid (0; log-spaced from 1e-4 alpha to 10 deg;
 // uniform to 180 deg; graded about psi = alpha, where Petzold's singular peak crosses the
 // cone's edge and pbar has a cusp) and evaluated by linear interpolation in psi.
@@ -28,17 +45,32 @@
 
 namespace secchi {
 
+/// Whether the scattering within the cone's half-angle of the forward direction is averaged
+/// with the rest (the manual's eq. 3.5) or transmitted along the ray (see above).
+enum class ConePeak { transmitted, averaged };
+
+inline ConePeak parse_cone_peak(const std::string& name) {
+    if (name == "transmitted") return ConePeak::transmitted;
+    if (name == "averaged") return ConePeak::averaged;
+    reject("cone peak", name, "must be transmitted or averaged");
+}
+
 template <PhaseFunction P>
 class ConeAveragedPhase {
 public:
     /// omega: the cone's solid angle (sr), in (0, 4 pi).
-    ConeAveragedPhase(const P& p, double omega, std::size_t n_log = 2048, std::size_t n_uniform = 4096)
-        : omega_(omega), name_(std::string("cone_average(").append(p.name()).append(")")) {
+    ConeAveragedPhase(const P& p, double omega, ConePeak peak = ConePeak::transmitted, std::size_t n_log = 2048,
+                      std::size_t n_uniform = 4096)
+        : omega_(omega), peak_(peak), name_(std::string("cone_average(").append(p.name()).append(")")) {
         require(omega > 0.0 && omega < four_pi, "omega", omega, "the cone's solid angle must lie in (0, 4 pi) sr");
         require(n_log >= 2 && n_uniform >= 2, "grid size", std::min(n_log, n_uniform), "needs at least 2 points");
         alpha_ = 2.0 * std::asin(std::sqrt(omega / four_pi));  // 1 - cos alpha = omega / (2 pi)
         psi_ = make_grid(n_log, n_uniform);
-        const auto bps = breakpoints_of(p);
+        auto bps = breakpoints_of(p);
+        bps.push_back(alpha_);
+        if (peak_ == ConePeak::transmitted)
+            transmitted_ = integrate_solid_angle([&](double g) { return static_cast<double>(p.eval(std::cos(g))); },
+                                                 0.0, alpha_, bps);
         for (double psi : psi_) value_.push_back(average(p, bps, psi));
     }
 
@@ -52,6 +84,11 @@ public:
 
     double omega() const { return omega_; }
     double half_angle() const { return alpha_; }
+    ConePeak peak() const { return peak_; }
+    /// f: the share of the scattering within the half-angle of the forward direction that the
+    /// ray transmits (ConePeak::transmitted), 0 when it is averaged. The optics attenuate the
+    /// ray with c - b f; the average integrates to 1 - f.
+    double transmitted_fraction() const { return transmitted_; }
     /// The tabulation grid (radians): pbar is piecewise linear in psi between these angles.
     std::vector<double> breakpoints() const { return psi_; }
     std::string name() const { return name_; }
@@ -94,9 +131,12 @@ private:
         return std::acos(std::clamp(x, -1.0, 1.0)) / pi;
     }
 
-    /// pbar(psi) = (1/omega) 2 pi int p(gamma) L(gamma)/(2 pi) sin(gamma) dgamma.
+    /// pbar(psi) = (1/omega) 2 pi int p(gamma) L(gamma)/(2 pi) sin(gamma) dgamma (gamma >= alpha
+    /// only, where the peak is transmitted).
     double average(const P& p, const std::vector<double>& phase_bps, double psi) const {
-        const double a = std::max(0.0, psi - alpha_), b = std::min(pi, psi + alpha_);
+        const double lowest = peak_ == ConePeak::transmitted ? alpha_ : 0.0;
+        const double a = std::max({0.0, psi - alpha_, lowest}), b = std::min(pi, psi + alpha_);
+        if (a >= b) return 0.0;
         const double k1 = std::abs(psi - alpha_), k2 = std::min(psi + alpha_, two_pi - psi - alpha_);
         std::vector<double> bps = phase_bps;
         bps.insert(bps.end(), {k1, k2});
@@ -111,7 +151,9 @@ private:
     }
 
     double omega_;
+    ConePeak peak_;
     double alpha_ = 0.0;
+    double transmitted_ = 0.0;
     std::string name_;
     std::vector<double> psi_, value_;
 };
