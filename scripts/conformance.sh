@@ -5,9 +5,18 @@
 # conformance_voi-grid_lanes-float.json), and problem 3 once more from its material file
 # (examples/materials/canonical_problem3.mat). Writes conformance_kdtree.json,
 # conformance_voi.json, conformance_voi-grid.json, conformance_3_material.json, the problem-2a
-# photon-map image photon_map_2a.exr, problem 3's IOP profile iop_profile_3_material.csv and a
-# markdown table of the stores (conformance.md) into ./build/conformance-results. Exit status 1
-# if any scored entry fails.
+# photon-map image photon_map_2a.exr and problem 3's IOP profile iop_profile_3_material.csv into
+# ./build/conformance-results, and there the conformance report (scripts/conformance_report.py):
+# conformance_report.md, a table per problem, and conformance_<problem>.svg, a figure per
+# problem. Exit status 1 if any scored entry fails.
+#
+# The seed study (scripts/seed_study.py: each entry's scatter over 8 seeds against its batch
+# standard error) runs 8 times as long as this job's store runs, so it is not part of this job;
+# run it apart, for each store, e.g.
+#   python3 scripts/seed_study.py --store voi --seeds 8 --threads "$(nproc)"
+# (into build/seed-study/); the seed_study_*.json found there are added to the report the next
+# time this job runs, or at once with
+#   python3 scripts/conformance_report.py build/conformance-results --seed-study build/seed-study/seed_study_voi.json
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
@@ -26,7 +35,11 @@ build/conformance/canonical --problem 1a,1b,2a,2b,5,6 --tracer lanes-float --sto
 build/conformance/canonical --problem 3 --material examples/materials/canonical_problem3.mat --store voi \
   --seed 1 --threads "$(nproc)" --json "$out/conformance_3_material.json" --profile-csv "$out/iop_profile_3_material.csv" \
   || status=1
-python3 scripts/conformance_table.py "$out/conformance_kdtree.json" "$out/conformance_voi.json" \
-  "$out/conformance_voi-grid.json" "$out/conformance_voi-grid_lanes-float.json" > "$out/conformance.md"
-echo "table of the stores: $out/conformance.md"
+seed_studies=()
+for study in build/seed-study/seed_study_*.json; do
+  if [[ -e "$study" ]]; then seed_studies+=(--seed-study "$study"); fi
+done
+python3 scripts/conformance_report.py --out "$out" ${seed_studies[@]+"${seed_studies[@]}"} \
+  "$out/conformance_kdtree.json" "$out/conformance_voi.json" "$out/conformance_voi-grid.json" \
+  "$out/conformance_voi-grid_lanes-float.json" "$out/conformance_3_material.json"
 exit $status
