@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Markdown table of canonical-runner results for each photon store, beside M93 Table 5 and
 the manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
-problems 1, 2, 5 and 6, metres for problem 3 (the manual did not score problem 5: no DIRSIG value). A store's name is its file's: conformance_<store>.json.
+problems 1, 2, 4, 5 and 6, metres for problem 3 (the manual did not score problems 4 and 5: no
+DIRSIG value). Problem 4's reported runs under parametric skies are rows of their own
+(4/gc-sky, 4/atm-split-sky), marked "rep.". A store's name is its file's: conformance_<store>.json.
 The first file sets the rows; later ones may hold some problems only.
 usage: conformance_table.py conformance_kdtree.json conformance_voi.json [conformance_voi-grid.json ...]"""
 import json
@@ -31,7 +33,10 @@ def store_name(path):
 
 
 def main(paths):
-    stores = [{(e["problem"], e["depth"], e["quantity"]): e for e in json.load(open(p))["entries"]} for p in paths]
+    # Problem 4's reported runs (parametric skies) share the scored run's problem and depth:
+    # the light source tells them apart (files without a "source" hold one run per problem).
+    label = lambda e: e["problem"] if e.get("scored", True) or not e.get("source") else f'{e["problem"]}/{e["source"]}'
+    stores = [{(label(e), e["depth"], e["quantity"]): e for e in json.load(open(p))["entries"]} for p in paths]
     names = [store_name(p) for p in paths]
     # A file may hold some problems only (e.g. the float lanes' 1 and 2): "-" where it has none.
     verdict = lambda e: "-" if e is None else ("pass" if e["pass"] else "FAIL") if e["scored"] else "rep."
