@@ -6,9 +6,11 @@
 // "Gregg-Carder atmosphere properties for Problem 4": 0.4158 direct, 0.2729 diffuse,
 // W m^-2 nm^-1). No atmosphere is traced: light leaving the surface upward is gone.
 //
-// Sky radiance: the clear-sky model of Harrison and Coombes (1988, Solar Energy 41(4):387-392,
-// eqs. 3-5; the manual's reference for the DIRSIG and Hydrolight sky), as Hydrolight
-// evaluates it (its routine hcnrad.f, "Harrison and Coombes Normalized RADiances"):
+// Sky radiance: Harrison and Coombes' clear-sky model as Hydrolight evaluates it (its routine
+// hcnrad.f, "Harrison and Coombes Normalized RADiances", which cites eqs. 3-5 of Harrison and
+// Coombes 1988, Solar Energy 41(4):387-392, the manual's reference; the clear-sky fit is that
+// of their companion paper, "Angular distribution of clear sky short wavelength radiance",
+// Solar Energy 40:57-63, 1988; neither paper was at hand, the coefficients are hcnrad.f's):
 //   N(theta, psi) = (1.63 + 53.7 exp(-5.49 psi) + 2.04 cos^2(psi) cos(theta_s))
 //                   (1 - exp(-0.19 / cos(theta))) (1 - exp(-0.53 / cos(theta_s))),
 // theta the zenith angle of the sky point, theta_s the sun's, psi (radians) the angle between
