@@ -12,7 +12,9 @@
 namespace {
 
 constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-trapezoid|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
-            --sun-zenith DEG [--sky E] --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
+            --sun-zenith DEG [--sky E | --source parametric-sky [--direct E --diffuse E]
+            | --source atmosphere [--rayleigh-tau T --aerosol-tau T --aerosol-g G --aerosol-albedo W
+            --aerosol-scale-height KM]] --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
             | --slope-variance S2] [--facets projected-area|redraw]
             [--bottom-depth TAU --bottom-albedo A]
             --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi|voi-grid
@@ -21,6 +23,14 @@ Depths and lengths are optical (c = 1 /m). Defaults:
   --phase petzold  --albedo 0.9  --sun-zenith 60  --water-index 1.34 (1.0: no interface)
   --sky 0 (a uniform sky of this downward plane irradiance beside the sun's E_perp = 1;
            0: a black sky, as in M93's problems)
+  --source sun (default: the sun, E_perp = 1 at the surface, and --sky), parametric-sky (a
+           0.53 deg sun disk and Harrison and Coombes' clear sky at the surface, scaled to
+           --direct 0.4158 and --diffuse 0.2729, the downward plane irradiances just above the
+           surface, default the manual's Gregg-Carder split for problem 4) or atmosphere (a
+           traced plane-parallel atmosphere, E_perp = 1 at its top, coupled to the water:
+           --rayleigh-tau 0.145 --aerosol-tau 0.264 (M93 problem 4), Henyey-Greenstein aerosol
+           --aerosol-g 0.7 --aerosol-albedo 1, exponential profiles of scale heights 8 km and
+           --aerosol-scale-height 2 km). Irradiances are per unit of the source's E_perp.
   --depths 1,5,10  --photons 1000000  --map-photons min(photons, 2000000)  --seed 1
   --threads 1  --batches 32  --store voi  --radius 0.05  --steps 64  --omega 0.005 (sr)
   --ray-transmittance 1e-4 (Lu's rays end where their transmittance falls to this, or at
@@ -54,6 +64,10 @@ void print_table(const secchi::PlaneParallelResult& r) {
             std::printf("  %.4e (%.1e)", e.value, e.se);
         std::printf("\n");
     }
+    const auto& a = r.above;
+    std::printf("source %s: just above the surface Ed(0+) = %.4e (direct %.4e, diffuse %.4e), Eu(0+) = %.4e\n",
+                r.source_name.c_str(), a.ed_direct.value + a.ed_diffuse.value, a.ed_direct.value, a.ed_diffuse.value,
+                a.eu.value);
 }
 
 void write_json(const secchi::PlaneParallelResult& r, const std::string& path) {
@@ -64,6 +78,15 @@ void write_json(const secchi::PlaneParallelResult& r, const std::string& path) {
     j.value("photons_traced", static_cast<unsigned long long>(r.photons_traced));
     j.value("photons_stored", static_cast<unsigned long long>(r.photons_stored));
     j.value("seconds", r.seconds);
+    j.value("source", r.source_name);
+    j.begin_object("above_surface")
+        .value("Ed_direct", r.above.ed_direct.value)
+        .value("Ed_direct_se", r.above.ed_direct.se)
+        .value("Ed_diffuse", r.above.ed_diffuse.value)
+        .value("Ed_diffuse_se", r.above.ed_diffuse.se)
+        .value("Eu", r.above.eu.value)
+        .value("Eu_se", r.above.eu.se)
+        .end_object();
     j.begin_object("phase")
         .value("name", r.phase_name)
         .value("mean_cosine", r.moments.mean_cosine)
@@ -104,6 +127,23 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.albedo = cl.number("albedo", 0.9);
     cfg.sun_zenith_deg = cl.number("sun-zenith", 60.0);
     cfg.sky_irradiance = cl.number("sky", 0.0);
+    cfg.source = secchi::parse_source(cl.text("source", "sun"));
+    if (cfg.source != secchi::SourceKind::sun_and_sky && cl.has("sky"))
+        secchi::reject("--sky", cl.text("sky"), "is the uniform sky beside the sun (--source sun)");
+    for (const char* option : {"direct", "diffuse"})
+        if (cl.has(option) && cfg.source != secchi::SourceKind::parametric_sky)
+            secchi::reject(std::string("--") + option, cl.text(option), "needs --source parametric-sky");
+    for (const char* option : {"rayleigh-tau", "aerosol-tau", "aerosol-g", "aerosol-albedo", "aerosol-scale-height"})
+        if (cl.has(option) && cfg.source != secchi::SourceKind::atmosphere)
+            secchi::reject(std::string("--") + option, cl.text(option), "needs --source atmosphere");
+    cfg.parametric_sky.direct = cl.number("direct", cfg.parametric_sky.direct);
+    cfg.parametric_sky.diffuse = cl.number("diffuse", cfg.parametric_sky.diffuse);
+    auto& atm = cfg.atmosphere;
+    atm.rayleigh_tau = cl.number("rayleigh-tau", atm.rayleigh_tau);
+    atm.aerosol_tau = cl.number("aerosol-tau", atm.aerosol_tau);
+    atm.aerosol_g = cl.number("aerosol-g", atm.aerosol_g);
+    atm.aerosol_albedo = cl.number("aerosol-albedo", atm.aerosol_albedo);
+    atm.aerosol_scale_height_km = cl.number("aerosol-scale-height", atm.aerosol_scale_height_km);
     cfg.water_index = cl.number("water-index", 1.34);
     cfg.slopes = facet_slopes(cl);
     cfg.facets = secchi::parse_facets(cl.text("facets", "projected-area"));
@@ -136,7 +176,9 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 int main(int argc, char** argv) {
     return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
-                                     {"phase", "albedo", "sun-zenith", "sky", "water-index", "wind", "slope-variance", "slopes",
+                                     {"phase", "albedo", "sun-zenith", "sky", "source", "direct", "diffuse", "rayleigh-tau",
+                                      "aerosol-tau", "aerosol-g", "aerosol-albedo", "aerosol-scale-height",
+                                      "water-index", "wind", "slope-variance", "slopes",
                                       "wind-azimuth", "facets", "bottom-depth", "bottom-albedo",
                                       "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                       "store", "radius", "steps", "omega", "ray-transmittance", "cone-peak", "ray-grid", "section-width",

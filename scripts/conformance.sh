@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The main job: Mobley et al. 1993 canonical problems 1a, 1b, 2a, 2b, 3, 5 and 6 with each photon
+# The main job: Mobley et al. 1993 canonical problems 1a, 1b, 2a, 2b, 3, 4, 5 and 6 with each photon
 # store (the k-d tree with spheres, the VOI octree and the VOI grid with the cylinder), at the
 # default (full) photon budgets, problems 1, 2, 5 and 6 once more traced in float lanes (VOI grid,
 # conformance_voi-grid_lanes-float.json), and problem 3 once more from its material file

@@ -3,8 +3,9 @@
 // section of width W with periodic wrap of photon positions (a photon leaving one side
 // re-enters at the other; stored positions lie in [0, W) x [0, W)). Depth z is positive
 // down from the surface at z = 0. The bottom is one of:
-//  - none (infinitely deep): photons that go below `escape_depth` moving down are counted as
-//    transmitted and stop (set it deep enough that their return is negligible);
+//  - none (infinitely deep): without an escape depth (the default) photons are followed at
+//    any depth until absorption ends them; with one, photons that go below it moving down are
+//    counted as transmitted and stop (an explicit cut-off, whose loss is the caller's to bound);
 //  - transparent at `depth`: a finite slab over nothing (photons leaving are transmitted);
 //  - Lambertian at `depth` with irradiance reflectance `albedo` (opaque).
 #include "secchi/core/error.hpp"

@@ -1,8 +1,9 @@
 #pragma once
 // A plane-parallel problem end to end (the canonical problems' set-up, M93 section 3):
-// homogeneous water of attenuation c and albedo w0 (problems 1, 2, 5, 6), or depth-varying water
-// (problem 3, solve_stratified), under a collimated sun and a black or uniform sky, a flat or
-// wind-blown surface (problem 5), optional bottom. First pass: photons traced, irradiance
+// homogeneous water of attenuation c and albedo w0 (problems 1, 2, 4, 5, 6), or depth-varying
+// water (problem 3, solve_stratified), under a light source (a collimated sun and a black or
+// uniform sky at the surface, a parametric sky, or a traced atmosphere above the surface:
+// problem 4; scene/source.hpp), a flat or wind-blown surface (problem 5), optional bottom. First pass: photons traced, irradiance
 // detectors tallied, the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
 // (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
@@ -16,6 +17,7 @@
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/optics/phase/cone_average.hpp"
+#include "secchi/scene/any_source.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <chrono>
@@ -59,11 +61,26 @@ inline TracerKind parse_tracer(const std::string& s) {
     reject("tracer", s, "must be photon, lanes or lanes-float");
 }
 
+/// The light source of a plane-parallel problem (scene/source.hpp): a collimated sun (E_perp = 1)
+/// and a uniform sky at the surface, a parametric sky (sun disk and Harrison-Coombes sky) at
+/// the surface, or a traced atmosphere above it (E_perp = 1 at its top).
+enum class SourceKind { sun_and_sky, parametric_sky, atmosphere };
+
+inline SourceKind parse_source(const std::string& s) {
+    if (s == "sun") return SourceKind::sun_and_sky;
+    if (s == "parametric-sky") return SourceKind::parametric_sky;
+    if (s == "atmosphere") return SourceKind::atmosphere;
+    reject("source", s, "must be sun, parametric-sky or atmosphere");
+}
+
 struct PlaneParallelConfig {
     double attenuation = 1.0;      ///< c (1/m); depths are in metres, so tau = c z
     double albedo = 0.9;           ///< w0 = b / c
     double sun_zenith_deg = 60.0;
     double sky_irradiance = 0.0;   ///< a uniform sky's plane irradiance beside the sun's E_perp = 1 (0: black)
+    SourceKind source = SourceKind::sun_and_sky;
+    ParametricSkySpec parametric_sky;  ///< with SourceKind::parametric_sky (its sun zenith: sun_zenith_deg)
+    AtmosphereSpec atmosphere;         ///< with SourceKind::atmosphere (its sun zenith: sun_zenith_deg)
     double water_index = 1.34;     ///< 1.0 = no interface
     FacetSlopes slopes;            ///< a wind-blown surface's facet slopes (scene/wind_blown_surface.hpp); all 0: flat
     FacetSampling facets = FacetSampling::projected_area;  ///< how a wind-blown surface's facets are met
@@ -100,6 +117,9 @@ struct PlaneParallelResult {
     std::vector<DepthResult> depths;
     EnergyLedger ledger;
     Estimate bottom_ed;
+    AboveSurface above;             ///< Ed(0+) direct and diffuse, Eu(0+), in the source's units
+    double source_irradiance = 0;   ///< the plane irradiance the photons represent (the source's units)
+    std::string source_name;
     std::vector<CompactRecord> map;  ///< only with keep_map
 };
 
@@ -108,31 +128,49 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// The first pass by the tracer cfg.tracer names, through `surface`.
+/// The light source cfg describes, its sun at cfg.sun_zenith_deg.
+inline AnySource source_of(const PlaneParallelConfig& cfg) {
+    switch (cfg.source) {
+        case SourceKind::parametric_sky: {
+            ParametricSkySpec spec = cfg.parametric_sky;
+            spec.sun_zenith_deg = cfg.sun_zenith_deg;
+            return ParametricSky(spec);
+        }
+        case SourceKind::atmosphere: {
+            AtmosphereSpec spec = cfg.atmosphere;
+            spec.sun_zenith_deg = cfg.sun_zenith_deg;
+            return TracedAtmosphere(spec);
+        }
+        case SourceKind::sun_and_sky: break;
+    }
+    return SunAndSky(CollimatedSun(cfg.sun_zenith_deg), UniformSky(cfg.sky_irradiance));
+}
+
+/// The first pass by the tracer cfg.tracer names, through `surface`, from `source`.
 template <PhotonRecord Record, Medium M, AirWaterSurface Surface>
 TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, const Surface& surface,
-                                           const PlaneParallelConfig& cfg) {
-    const CollimatedSun sun(cfg.sun_zenith_deg);
-    const UniformSky sky(cfg.sky_irradiance);
+                                           const AnySource& source, const PlaneParallelConfig& cfg) {
 #if SECCHI_HAS_LANES
     if constexpr (depth_independent<M>) {
         if (cfg.tracer == TracerKind::lanes)
-            return LaneTracer<M, Record, double, Surface>(medium, slab, surface, sun, cfg.transport, sky).run();
+            return LaneTracer<M, Record, double, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
         if (cfg.tracer == TracerKind::float_lanes)
-            return FloatLaneTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport, sky).run();
+            return FloatLaneTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
     }
 #endif
     require(cfg.tracer == TracerKind::photon, "tracer", cfg.tracer == TracerKind::lanes ? "lanes" : "lanes-float",
             "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
-    return PhotonTracer<M, Record, Surface>(medium, slab, surface, sun, cfg.transport, sky).run();
+    return PhotonTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
 }
 
 /// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.
 template <PhotonRecord Record, Medium M>
-TransportResult<Record> first_pass(const M& medium, const Slab& slab, const PlaneParallelConfig& cfg) {
+TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnySource& source,
+                                   const PlaneParallelConfig& cfg) {
     if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
-        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, cfg.water_index, cfg.facets), cfg);
-    return first_pass_through<Record>(medium, slab, FlatSurface(cfg.water_index), cfg);
+        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, cfg.water_index, cfg.facets),
+                                          source, cfg);
+    return first_pass_through<Record>(medium, slab, FlatSurface(cfg.water_index), source, cfg);
 }
 
 /// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the
@@ -208,9 +246,13 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
         cfg.transport.map_depth = map_depth + cfg.radius;
     }
     const Slab slab(cfg.section_width, cfg.bottom);
-    auto tr = detail::first_pass<Record>(medium, slab, cfg);
+    const AnySource source = detail::source_of(cfg);
+    auto tr = detail::first_pass<Record>(medium, slab, source, cfg);
 
     PlaneParallelResult out;
+    out.above = tr.above;
+    out.source_irradiance = source.plane_irradiance();
+    out.source_name = source.name();
     out.photons_traced = tr.photons;
     out.photons_stored = tr.records.size();
     out.ledger = tr.ledger;

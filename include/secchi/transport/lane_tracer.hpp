@@ -53,11 +53,15 @@ concept LanePhaseSampler = requires(const P p, Lanes u) {
 /// hold floats anyway), and detector tallies summed in float over at most flush_steps steps
 /// per lane before they join the block's double sums.
 /// Surface: the air-water surface policy (scene/surface.hpp), met lane by lane as PhotonTracer does.
-template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface>
+/// Source: the light source (scene/source.hpp), whose photons (and, for a traced atmosphere,
+/// the light it sends back) are followed lane by lane by PhotonTracer's launch and surface
+/// crossing.
+template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface,
+          LightSource Source = SunAndSky>
     requires depth_independent<M> && std::default_initializable<Record> &&
              (std::same_as<Real, double> || std::same_as<Real, float>)
-class LaneTracer : private PhotonTracer<M, Record, Surface> {
-    using Base = PhotonTracer<M, Record, Surface>;
+class LaneTracer : private PhotonTracer<M, Record, Surface, Source> {
+    using Base = PhotonTracer<M, Record, Surface, Source>;
     using typename Base::PhotonState;
     using Reals = lanes::LanesOf<Real>;
     using Mask = typename Reals::mask_type;
@@ -70,12 +74,19 @@ class LaneTracer : private PhotonTracer<M, Record, Surface> {
     static constexpr std::uint64_t flush_steps = 64;
 
 public:
-    LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
-               TransportSettings settings, UniformSky sky = UniformSky{})
-        : Base(medium, slab, surface, sun, supported(std::move(settings)), sky),
+    /// The photons come from `source` (scene/source.hpp).
+    LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
+               TransportSettings settings)
+        : Base(medium, slab, surface, source, supported(std::move(settings))),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(static_cast<Real>(
               medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0))) {}
+
+    /// A collimated sun and a uniform sky beside it (SunAndSky), as PhotonTracer's.
+    LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
+               TransportSettings settings, UniformSky sky = UniformSky{})
+        requires std::same_as<Source, SunAndSky>
+        : LaneTracer(medium, slab, surface, SunAndSky(sun, sky), std::move(settings)) {}
 
     /// As PhotonTracer::run: `storage` (cleared first) receives the map's records.
     TransportResult<Record> run(std::vector<Record> storage = {}) const {
@@ -121,7 +132,7 @@ private:
         lanes.tally.assign(this->planes_.size(), {Reals(Real(0)), Reals(Real(0)), Reals(Real(0)), Reals(Real(0))});
         Launches launches;
         launches.first = block.begin;
-        for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out.ledger);
+        for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out);
         for (std::uint64_t steps = 1; any_of(Mask(lanes.alive, aligned)); ++steps) {
             step(lanes, launches, block.end, out);
             if (in_floats && steps % flush_steps == 0) flush(lanes, out);
@@ -144,13 +155,13 @@ private:
     /// Puts the block's next photon that enters the water into lane l (PhotonTracer::launch),
     /// or parks the lane when the block has none left: a parked lane has zero weight, stores
     /// nothing, and every per-lane action skips it.
-    void start(Lanes& L, int l, Launches& next, std::uint64_t end, EnergyLedger& ledger) const {
+    void start(Lanes& L, int l, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
         while (next.used < next.count || next.first + next.count < end) {
             if (next.used == next.count) prepare(next, end);
             const std::uint64_t u = next.used++, i = next.first + u;
             PhotonRng rng(this->s_.seed, i, 0, {next.bits[0][u], next.bits[1][u], next.bits[2][u], next.bits[3][u]});
             PhotonState p;
-            if (!this->launch(p, rng, ledger)) continue;
+            if (!this->launch(p, rng, out)) continue;
             put(L, l, p);
             L.photon[l] = i;
             L.block[l] = rng.next_block();
@@ -275,7 +286,7 @@ private:
             } else {
                 per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) { return this->roulette(p, rng, out.ledger); });
             }
-            if (!L.alive[l]) start(L, l, next, end, out.ledger);
+            if (!L.alive[l]) start(L, l, next, end, out);
         });
     }
 
@@ -320,7 +331,7 @@ private:
     void boundary(Lanes& L, int l, const Reals& z_free, detail::BlockResult<Record>& out) const {
         const bool surface = z_free[l] < Real(0);
         per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
-            if (surface) return this->leave_or_reflect_at_surface(p, rng, out.ledger);
+            if (surface) return this->leave_or_reflect_at_surface(p, rng, out);
             if (this->slab_.bottom().kind != BottomKind::none) out.bottom_ed += p.w;
             return this->reflect_at_bottom(p, rng, out.ledger);
         });
@@ -393,8 +404,8 @@ private:
 };
 
 /// LaneTracer in float lanes (twice the lanes per vector), with PhotonTracer's parameters.
-template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface>
-using FloatLaneTracer = LaneTracer<M, Record, float, Surface>;
+template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky>
+using FloatLaneTracer = LaneTracer<M, Record, float, Surface, Source>;
 
 }  // namespace secchi
 #endif

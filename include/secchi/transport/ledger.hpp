@@ -1,14 +1,20 @@
 #pragma once
 // Energy accounting of the first pass: every photon's weight ends in exactly one account,
-// so incident = surface_reflected + escaped_up + absorbed + absorbed_bottom + transmitted +
-// truncated + roulette_killed - roulette_gained. In analog mode the roulette terms are zero
-// and the balance is exact per photon; with Russian roulette it holds in expectation.
+// so incident = surface_reflected + escaped_up + to_space + absorbed_air + absorbed +
+// absorbed_bottom + transmitted + truncated + roulette_killed - roulette_gained. In analog
+// mode the roulette terms are zero and the balance is exact per photon; with Russian roulette
+// it holds in expectation. Under a source that sends light back (a traced atmosphere,
+// scene/atmosphere.hpp) light going up from the surface is handed to it, so it ends in
+// to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under one that does
+// not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
 namespace secchi {
 
 struct EnergyLedger {
-    double incident = 0;           ///< weight that arrived at the surface from the sun
+    double incident = 0;           ///< weight that the source emitted (at the surface, or at the top of an atmosphere)
     double surface_reflected = 0;  ///< specular reflection of the incident beam
     double escaped_up = 0;         ///< left the water upward through the surface
+    double to_space = 0;           ///< left the top of a traced atmosphere
+    double absorbed_air = 0;       ///< absorbed in a traced atmosphere
     double absorbed = 0;           ///< absorbed in the water
     double absorbed_bottom = 0;    ///< absorbed by an opaque bottom
     double transmitted = 0;        ///< left through the bottom of a finite slab, or below the escape depth
@@ -20,6 +26,8 @@ struct EnergyLedger {
         incident += o.incident;
         surface_reflected += o.surface_reflected;
         escaped_up += o.escaped_up;
+        to_space += o.to_space;
+        absorbed_air += o.absorbed_air;
         absorbed += o.absorbed;
         absorbed_bottom += o.absorbed_bottom;
         transmitted += o.transmitted;
@@ -31,7 +39,8 @@ struct EnergyLedger {
     /// incident minus everything accounted for; 0 up to rounding in analog mode.
     [[nodiscard]] double imbalance() const {
         return incident + roulette_gained -
-               (surface_reflected + escaped_up + absorbed + absorbed_bottom + transmitted + truncated + roulette_killed);
+               (surface_reflected + escaped_up + to_space + absorbed_air + absorbed + absorbed_bottom + transmitted +
+                truncated + roulette_killed);
     }
 };
 

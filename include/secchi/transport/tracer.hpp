@@ -1,10 +1,13 @@
 #pragma once
-// The first pass (manual 3.3): equal-flux photons from a collimated sun (and a uniform sky, if
-// it is lit), refracted through the surface (a policy: flat, or wind-blown facets;
-// scene/surface.hpp), exponential free paths (eq. 3.17), absorption or scattering by the
-// albedo (3.3.5), storage of scattering events in the photon map (3.3.6), Fresnel reflection
-// and refraction at the surface from below, a Lambertian or transparent bottom, and irradiance
-// detectors. Every photon's weight ends in the energy ledger.
+// The first pass (manual 3.3): equal-flux photons from a light source (a policy: a collimated
+// sun and a uniform sky, a parametric sky, or a traced atmosphere; scene/source.hpp),
+// refracted through the surface (a policy: flat, or wind-blown facets; scene/surface.hpp),
+// exponential free paths (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage
+// of scattering events in the photon map (3.3.6), Fresnel reflection and refraction at the
+// surface from below, a Lambertian or transparent bottom, and irradiance detectors. Light
+// going up from the surface into the air is handed to the source when the source can send it
+// back (a traced atmosphere: the coupled system), and comes down onto the surface again or
+// leaves. Every photon's weight ends in the energy ledger.
 //
 // Parallel and reproducible: photon i draws only from its own counter-based stream
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
@@ -14,10 +17,10 @@
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/scene/flat_surface.hpp"
-#include "secchi/scene/sky.hpp"
+#include "secchi/scene/source.hpp"
+#include "secchi/scene/sun_and_sky.hpp"
 #include "secchi/scene/surface.hpp"
 #include "secchi/scene/slab.hpp"
-#include "secchi/scene/sun.hpp"
 #include "secchi/transport/blocks.hpp"
 #include "secchi/transport/irradiance_planes.hpp"
 #include "secchi/transport/ledger.hpp"
@@ -30,15 +33,27 @@
 
 namespace secchi {
 
-/// What the first pass produces. Irradiances are in the units of the sun's E_perp.
+/// The plane irradiances just above the surface (z = 0+): the downward one, Ed(0+) = direct +
+/// diffuse, counted at every arrival of light from the air (light an atmosphere sends back
+/// counts again), and the upward one Eu(0+) (light leaving the surface into the air).
+struct AboveSurface {
+    Estimate ed_direct;   ///< straight from the sun's disk, never scattered
+    Estimate ed_diffuse;  ///< everything else arriving from the air (sky, atmosphere)
+    Estimate eu;          ///< going up from the surface: specular reflection and water-leaving light
+};
+
+/// What the first pass produces. Irradiances are in the units of the source's plane irradiance
+/// (LightSource::plane_irradiance(): E_perp cos(zenith) at the surface, or at the top of an
+/// atmosphere).
 template <PhotonRecord Record>
 struct TransportResult {
     std::vector<double> depths;
     std::vector<std::array<Estimate, 4>> irradiance;  ///< per depth, indexed by IrradianceKind
     Estimate bottom_ed;                               ///< Ed arriving at the bottom (0 without one)
+    AboveSurface above;                               ///< Ed(0+) direct and diffuse, Eu(0+)
     EnergyLedger ledger;                              ///< normalised per incident photon
     std::vector<Record> records;                      ///< the photon map, in photon order
-    RecordFlux map_flux;                              ///< what a record carries (E_d(0+) x area / map photons)
+    RecordFlux map_flux;                              ///< what a record carries (the source's plane irradiance x area / map photons)
     std::uint64_t photons = 0, map_photons = 0;
     unsigned batches = 0;
 };
@@ -51,24 +66,23 @@ struct BlockResult {
 
     std::vector<IrradianceTally> tally;  // per depth
     double bottom_ed = 0;
+    double ed_direct = 0, ed_diffuse = 0, eu_air = 0;  // just above the surface (AboveSurface)
     EnergyLedger ledger;
     RecordChunks<Record> records;
 };
 
 }  // namespace detail
 
-template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface>
+template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky>
 class PhotonTracer {
 public:
-    /// `sky`: a uniform sky beside the sun (black by default). The photons share the incident
-    /// plane irradiance: a photon comes from the sky with probability E_sky / (E_sun + E_sky).
-    PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
-                 TransportSettings settings, UniformSky sky = UniformSky{})
-        : medium_(medium), slab_(slab), surface_(surface), sun_(sun), sky_(sky),
-          sky_share_(sky_share(sun, sky)), s_(validated(std::move(settings))),
+    /// The photons come from `source` (scene/source.hpp).
+    PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
+                 TransportSettings settings)
+        : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
           planes_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
-          levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(sun.direction()),
+          levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
         if (!std::isfinite(slab.floor_depth())) {
             // Infinitely deep water has no cut-off (light returns from any depth, attenuated by
@@ -81,6 +95,13 @@ public:
                     s_.roulette_weight, "must be > 0 in infinitely deep water (weighted photons end by roulette)");
         }
     }
+
+    /// A collimated sun and a uniform sky beside it (black by default) just above the surface
+    /// (SunAndSky): a photon comes from the sky with probability E_sky / (E_sun + E_sky).
+    PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
+                 TransportSettings settings, UniformSky sky = UniformSky{})
+        requires std::same_as<Source, SunAndSky>
+        : PhotonTracer(medium, slab, surface, SunAndSky(sun, sky), std::move(settings)) {}
 
     /// Traces the photons. The map's records go into `storage` (cleared first): pass the
     /// records of an earlier run (`std::move(result.records)`) to reuse their memory, which
@@ -140,7 +161,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     void trace_photon(std::uint64_t index, detail::BlockResult<Record>& out, std::vector<PhotonState>& pending) const {
         PhotonRng rng(s_.seed, index);
         PhotonState p;
-        if (!launch(p, rng, out.ledger)) return;
+        if (!launch(p, rng, out)) return;
         const MapSlot slot = map_slot(index);
         follow(p, rng, out, slot, pending);
         while (!pending.empty()) {
@@ -150,26 +171,30 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         }
     }
 
-    /// A photon from the sun (or the sky) at a uniform point of the section, through the
-    /// surface (its first draws from `rng`; a black sky draws none). False if it does not
-    /// enter the water.
-    bool launch(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+    /// A photon from the source at a uniform point of the section (its first draws from
+    /// `rng`), to the surface and through it. False if it does not enter the water. (The
+    /// horizontal path a photon takes through an atmosphere is not followed: the plane-parallel
+    /// atmosphere is the same everywhere, so where in the periodic section its light arrives
+    /// changes no horizontally averaged quantity, and a uniform point stays a uniform point.)
+    bool launch(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out) const {
         p = PhotonState{{slab_.width() * rng.uniform(), slab_.width() * rng.uniform(), 0.0}, sun_direction_, 1.0, 0};
-        ledger.incident += 1.0;
-        const bool from_sky = sky_share_ > 0.0 && rng.uniform() < sky_share_;
-        if (from_sky) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            p.dir = UniformSky::direction(u1, u2);
-        }
-        const SurfaceHit h = from_sky ? surface_.hit(p.dir, Side::air, rng) : sun_hit(rng);
-        return cross_surface(p, rng, Side::air, h, ledger.surface_reflected, ledger);  // lost light: surface_reflected
+        out.ledger.incident += 1.0;
+        const SourcePhoton sp = source_.emit(rng);
+        if (!arrives(sp, p.w, out)) return false;
+        p.dir = sp.dir;
+        const SurfaceHit h = sp.beam ? sun_hit(rng) : surface_.hit(p.dir, Side::air, rng);
+        return cross_surface(p, rng, Side::air, h, out.ledger.surface_reflected, out);  // lost light: surface_reflected
     }
 
-    /// The sky's share of the incident plane irradiance (0 for a black sky).
-    static double sky_share(const CollimatedSun& sun, const UniformSky& sky) {
-        const double total = sun.plane_irradiance() + sky.plane_irradiance();
-        require(total > 0.0, "incident irradiance", total, "must be > 0: the sun or the sky must shine");
-        return sky.plane_irradiance() / total;
+    /// Books a photon the source followed: its weight w into Ed(0+) if it arrives at the
+    /// surface (true), else into the ledger's account for its fate.
+    static bool arrives(const SourcePhoton& sp, double w, detail::BlockResult<Record>& out) {
+        switch (sp.fate) {
+            case SourceFate::arrives: (sp.direct ? out.ed_direct : out.ed_diffuse) += w; return true;
+            case SourceFate::to_space: out.ledger.to_space += w; return false;
+            case SourceFate::absorbed: out.ledger.absorbed_air += w; return false;
+        }
+        return false;
     }
 
     /// The map batch of photon `index`, if its events are stored.
@@ -194,7 +219,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
                 // either side of it), so that a detector at depth 0 counts it (the half-open
                 // crossing rule of IrradiancePlanes::record).
                 fly(p, -p.pos.z / p.dir.z, 0.0, out);
-                if (!leave_or_reflect_at_surface(p, rng, out.ledger)) return;
+                if (!leave_or_reflect_at_surface(p, rng, out)) return;
                 continue;
             }
             if (z1 >= floor_depth) {                      // reaches the bottom / escape depth
@@ -234,9 +259,9 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     }
 
     /// At the surface from below: reflect (Fresnel, total internal reflection) or escape.
-    bool leave_or_reflect_at_surface(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
+    bool leave_or_reflect_at_surface(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out) const {
         p.pos.z = 0.0;
-        return cross_surface(p, rng, Side::water, surface_.hit(p.dir, Side::water, rng), ledger.escaped_up, ledger);
+        return cross_surface(p, rng, Side::water, surface_.hit(p.dir, Side::water, rng), out.ledger.escaped_up, out);
     }
 
     /// The photon meets the surface from `side` (its first hit `h`) until it is in the water
@@ -249,13 +274,20 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// back across the surface (reflected down on the air side, transmitted down into the air,
     /// or up in the water): it then meets the surface again, ignoring shadowing as M93's
     /// problem 5 does. After max_surface_hits hits the photon stops, its weight truncated.
+    /// Under a source that returns light (a scattering atmosphere) reflected light is not gone:
+    /// the choice is then always random, and a photon in the air moving up is handed to the
+    /// source (LightSource::reenter), which sends it back down onto the surface (another
+    /// max_surface_hits hits from there) or books where it ended.
     bool cross_surface(PhotonState& p, PhotonRng& rng, Side side, SurfaceHit h, double& left,
-                       EnergyLedger& ledger) const {
+                       detail::BlockResult<Record>& out) const {
+        const bool coupled = source_.returns_light();
         for (int hits = 1;; ++hits) {
             const bool from_air = side == Side::air;
             bool reflect;
-            if (from_air && s_.absorption != AbsorptionMode::analog && h.reflected.z < 0.0) {
-                left += p.w * h.reflectance;  // expected value: the weight carries the transmittance
+            if (from_air && s_.absorption != AbsorptionMode::analog && h.reflected.z < 0.0 && !coupled) {
+                const double reflected = p.w * h.reflectance;
+                left += reflected;  // expected value: the weight carries the transmittance
+                out.eu_air += reflected;
                 p.w *= 1.0 - h.reflectance;
                 reflect = false;
             } else {
@@ -265,18 +297,29 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             const bool in_water = from_air != reflect;  // the side the photon is now on
             if (in_water && p.dir.z > 0.0) return true;
             if (!in_water && p.dir.z < 0.0) {
-                left += p.w;
-                return false;
+                out.eu_air += p.w;
+                if (!coupled) {
+                    left += p.w;
+                    return false;
+                }
+                const SourcePhoton back = source_.reenter(p.dir, rng);
+                if (!arrives(back, p.w, out)) return false;
+                p.dir = back.dir;
+                side = Side::air;
+                h = surface_.hit(p.dir, side, rng);
+                hits = 0;
+                continue;
             }
             if (hits == max_surface_hits) break;
             side = in_water ? Side::water : Side::air;  // back across the surface: another facet
             h = surface_.hit(p.dir, side, rng);
         }
-        ledger.truncated += p.w;
+        out.ledger.truncated += p.w;
         return false;
     }
 
-    /// The hit of a photon from the sun: computed once when it draws no random numbers.
+    /// The hit of a photon of the source's collimated beam: computed once when it draws no
+    /// random numbers.
     SurfaceHit sun_hit(PhotonRng& rng) const {
         if constexpr (Surface::random_facets) return surface_.hit(sun_direction_, Side::air, rng);
         else return *sun_hit_;
@@ -402,6 +445,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         const std::size_t nd = planes_.size();
         std::vector<std::vector<IrradianceTally>> batch_tally(s_.batches, std::vector<IrradianceTally>(nd));
         std::vector<double> batch_bottom(s_.batches, 0.0), batch_photons(s_.batches, 0.0);
+        std::vector<std::array<double, 3>> batch_above(s_.batches, {0.0, 0.0, 0.0});
         TransportResult<Record> r;
         r.records = std::move(records);
         for (std::size_t i = 0; i < blocks.size(); ++i) {  // fixed order: deterministic sums
@@ -410,10 +454,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             for (std::size_t d = 0; d < nd; ++d)
                 for (int k = 0; k < 4; ++k) batch_tally[blk.batch][d][k] += res.tally[d][k];
             batch_bottom[blk.batch] += res.bottom_ed;
+            batch_above[blk.batch][0] += res.ed_direct;
+            batch_above[blk.batch][1] += res.ed_diffuse;
+            batch_above[blk.batch][2] += res.eu_air;
             batch_photons[blk.batch] += static_cast<double>(blk.end - blk.begin);
             r.ledger += res.ledger;
         }
-        const double ed0 = sun_.plane_irradiance() + sky_.plane_irradiance();  // Ed(0+)
+        const double ed0 = source_.plane_irradiance();  // what the photons shot represent
         std::vector<double> values(s_.batches);
         auto estimate = [&](auto&& value_of_batch) {
             for (unsigned b = 0; b < s_.batches; ++b) values[b] = ed0 * value_of_batch(b) / batch_photons[b];
@@ -424,8 +471,12 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         for (std::size_t d = 0; d < nd; ++d)
             for (int k = 0; k < 4; ++k) r.irradiance[d][k] = estimate([&](unsigned b) { return batch_tally[b][d][k]; });
         r.bottom_ed = estimate([&](unsigned b) { return batch_bottom[b]; });
+        r.above.ed_direct = estimate([&](unsigned b) { return batch_above[b][0]; });
+        r.above.ed_diffuse = estimate([&](unsigned b) { return batch_above[b][1]; });
+        r.above.eu = estimate([&](unsigned b) { return batch_above[b][2]; });
         const double n = static_cast<double>(s_.photons);
-        for (double* f : {&r.ledger.incident, &r.ledger.surface_reflected, &r.ledger.escaped_up, &r.ledger.absorbed,
+        for (double* f : {&r.ledger.incident, &r.ledger.surface_reflected, &r.ledger.escaped_up, &r.ledger.to_space,
+                          &r.ledger.absorbed_air, &r.ledger.absorbed,
                           &r.ledger.absorbed_bottom, &r.ledger.transmitted, &r.ledger.truncated,
                           &r.ledger.roulette_killed, &r.ledger.roulette_gained})
             *f /= n;
@@ -440,15 +491,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     const M& medium_;
     Slab slab_;
     Surface surface_;
-    CollimatedSun sun_;
-    UniformSky sky_;
-    double sky_share_;  ///< the probability that a photon comes from the sky
+    Source source_;
     TransportSettings s_;
     IrradiancePlanes planes_;
     bool continuous_, importance_on_;
     ImportanceLevels levels_;
     double w0_;  ///< the albedo of a depth-independent medium
-    vec3 sun_direction_;                 ///< of the photons arriving from the sun
+    vec3 sun_direction_;                 ///< of the photons of the source's collimated beam
     std::optional<SurfaceHit> sun_hit_;  ///< their hit, where it is the same for all (a flat surface)
 };
 
