@@ -6,8 +6,8 @@
 # (examples/materials/canonical_problem3.mat). Writes conformance_kdtree.json,
 # conformance_voi.json, conformance_voi-grid.json, conformance_3_material.json, the problem-2a
 # photon-map image photon_map_2a.exr, problem 3's IOP profile iop_profile_3_material.csv and a
-# markdown table of the stores (conformance.md) into ./build/conformance-results. Exit status 1
-# if any scored entry fails.
+# markdown table of the stores (conformance.md, with the Kirk checks of --problem all below it)
+# into ./build/conformance-results. Exit status 1 if any scored entry fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh

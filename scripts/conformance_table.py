@@ -3,6 +3,8 @@
 the manual's DIRSIG photon-mapping results (Tables 7.1/7.2). Depth: optical depth tau for
 problems 1, 2, 5 and 6, metres for problem 3 (the manual did not score problem 5: no DIRSIG value). A store's name is its file's: conformance_<store>.json.
 The first file sets the rows; later ones may hold some problems only.
+Below it, a small table of the Kirk checks (problem "kirk", canonical_problems.md section 7),
+from the first file that holds them: they use the first pass only, so every store gives the same.
 usage: conformance_table.py conformance_kdtree.json conformance_voi.json [conformance_voi-grid.json ...]"""
 import json
 import os
@@ -17,6 +19,10 @@ DIRSIG = {  # manual Tables 7.1 and 7.2 (single maps of up to 1e7 photons)
     ("6", 1): (1.62e-1, 9.88e-4, 6.90e-5), ("6", 5): (2.29e-3, 2.28e-3, 3.63e-4),
 }
 QTY = {"Ed": 0, "Eou": 1, "Lu": 2}
+# The manual's HG case (mean cosine 0.8, a = 0.1 /m, b = 0.9 /m, sun at nadir, no interface):
+# z1% from the manual's DIRSIG (section 7.5.4) and from an independent Monte Carlo
+# (canonical_problems.md section 7), shown beside secchi's.
+KIRK_HG_Z1 = {"DIRSIG": 19.3, "independent MC": 18.78}
 
 
 NAMES = {"kdtree": "k-d tree", "voi": "VOI octree", "voi-grid": "VOI grid",
@@ -38,10 +44,12 @@ def main(paths):
     cells = lambda e: "- | -" if e is None else (
         f"{e['value']:.4g} ({100*e['se']/abs(e['value']) if e['value'] else float('inf'):.2f}%) "
         f"| {100*e['relative_error']:+.2f}%")
-    print("| problem | depth | qty | M93 mean | s/x | " + " | ".join(f"{n} (SE) | err" for n in names) +
-          " | pass " + "/".join(names) + " | DIRSIG | DIRSIG err |")
-    print("|---|---|---|---|---|" + "---|---|" * len(names) + "---|---|---|")
-    for key, a in stores[0].items():
+    rows = [(key, a) for key, a in stores[0].items() if key[0] != "kirk"]
+    if rows:
+        print("| problem | depth | qty | M93 mean | s/x | " + " | ".join(f"{n} (SE) | err" for n in names) +
+              " | pass " + "/".join(names) + " | DIRSIG | DIRSIG err |")
+        print("|---|---|---|---|---|" + "---|---|" * len(names) + "---|---|---|")
+    for key, a in rows:
         entries = [store.get(key) for store in stores]
         dirsig = DIRSIG.get((key[0], int(key[1])))
         d = "- | -" if dirsig is None else (
@@ -49,6 +57,32 @@ def main(paths):
         print(f"| {key[0]} | {key[1]:g} | {key[2]} | {a['reference']:.3g} | {100*a['spread']:.1f}% | "
               + " | ".join(cells(e) for e in entries)
               + f" | {'/'.join(verdict(e) for e in entries)} | {d} |")
+    kirk_table(paths)
+
+
+def kirk_table(paths):
+    """The Kirk entries: relations scored within their tolerance inside the domain, the HG case
+    against the exact solution; reported rows beside them."""
+    for path in paths:
+        kirk = [e for e in json.load(open(path))["entries"] if e["problem"] == "kirk"]
+        if kirk:
+            break
+    else:
+        return
+    print(f"\nKirk's AOP relations (canonical_problems.md section 7; {os.path.basename(path)}): inside the domain "
+          "scored against the relation within its tolerance, outside it (HG) against the exact solution within 4 SE.\n")
+    print("| case | secchi (SE) | reference | tolerance | err | verdict |")
+    print("|---|---|---|---|---|---|")
+    for e in kirk:
+        rel_se = 100 * e["se"] / abs(e["value"]) if e["value"] else float("inf")
+        tolerance = f"{100 * e['spread']:.2f}%" if e["scored"] else "-"
+        verdict = ("pass" if e["pass"] else "FAIL") if e["scored"] else "rep."
+        print(f"| {e['quantity']} | {e['value']:.5g} ({rel_se:.2f}%) | {e['reference']:.5g} | {tolerance} "
+              f"| {100 * e['relative_error']:+.2f}% | {verdict} |")
+    hg = next((e for e in kirk if e["quantity"].startswith("z1% HG")), None)
+    if hg is not None:
+        others = ", ".join(f"{name} {z:g} m" for name, z in KIRK_HG_Z1.items())
+        print(f"\nHG case z1%: secchi {hg['value']:.3f} +- {hg['se']:.3f} m; {others}.")
 
 
 if __name__ == "__main__":
