@@ -8,7 +8,8 @@
 # photon-map image photon_map_2a.exr and problem 3's IOP profile iop_profile_3_material.csv into
 # ./build/conformance-results, and there the conformance report (scripts/conformance_report.py):
 # conformance_report.md, a table per problem, and conformance_<problem>.svg, a figure per
-# problem. Exit status 1 if any scored entry fails.
+# problem, with the Kirk checks of --problem all in their own table. Exit status 1 if any
+# scored entry fails.
 #
 # The seed study (scripts/seed_study.py: each entry's scatter over 8 seeds against its batch
 # standard error) runs 8 times as long as this job's store runs, so it is not part of this job;
