@@ -30,8 +30,9 @@
 // adds to the single-scattered return (a discrete-ordinate solution for this phase function,
 // sun at nadir, without the interface, scripts/kirk_exact_reference.py: R(0)/k = 0.288 at
 // k = 0.005, 0.325 at 0.05, 0.388 at 0.15). So C depends on the k range, and on whether R(0) is fitted on k or on b_b/a (Kirk's
-// own variable, R(0) = C b_b/a; the two agree within 5 % only for k <= 0.048). canonical prints
-// the slope over sub-ranges and on b_b/a beside the scored one.
+// own variable, R(0) = C b_b/a; the two agree within 5 % only for k <= 0.048). Since the range
+// of Kirk's fit is not known, C is reported, not scored (choosing a range would choose the
+// verdict); canonical prints the slope over sub-ranges and on b_b/a beside it. Kd_bar is scored.
 //
 // Outside the domain (the manual's Henyey-Greenstein case: mean cosine 0.8, a = 0.1 /m,
 // b = 0.9 /m, sun at nadir, no interface) nothing is scored against the relations; secchi's

@@ -6,6 +6,7 @@
 #include "../conformance/problem3.hpp"
 #include "secchi/io/material_medium.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/solver/plane_parallel.hpp"
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -422,4 +423,28 @@ TEST_CASE("material medium: case1_chlorophyll.mat is eq. 5.13 and eq. 5.21 with 
     // More chlorophyll at the peak than at the surface: more absorption and scattering.
     CHECK(m.absorption(x, 440.0) > m.absorption(at_depth(0.0), 440.0));
     CHECK(iop::scattering(m, x, 500.0) > iop::scattering(m, at_depth(0.0), 500.0));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The material's refractive index reaches the surface: the sun's light reflected by a flat
+// surface is Fresnel's R(theta, 1, n) for the water's n at the run's wavelength (the ledger
+// books R exactly: weighted photons from the air take the expected value), unless the run
+// names an override.
+TEST_CASE("material medium: REFRACTIVE_INDEX_MODEL sets the surface's index; PlaneParallelConfig::water_index overrides it") {
+    const auto depths = iop::uniform_depths(20.0, 0.5);
+    PlaneParallelConfig cfg;  // sun at 60 deg, flat surface, continuous absorption
+    cfg.transport.photons = 2000;
+    cfg.transport.depths = {1.0};
+    const double mu = std::cos(cfg.sun_zenith_deg * deg);
+    for (const double n : {1.20, 1.337354}) {
+        const std::string ior = n == 1.20 ? "    REFRACTIVE_INDEX_MODEL {\n      TYPE = constant\n      IOR = 1.2\n    }\n" : "";
+        const auto water = iop::stratify(bind_text("ior.mat", purewater_with(ior)), 500.0, depths);
+        REQUIRE(water.refractive_index());
+        CHECK(*water.refractive_index() == Approx(n).epsilon(1e-6));  // IAPWS at 500 nm without a model
+        const auto r = solve_stratified(water, cfg);
+        CHECK(r.ledger.surface_reflected == Approx(fresnel_reflectance(mu, 1.0, *water.refractive_index())).epsilon(1e-12));
+        auto named = cfg;
+        named.water_index = 1.34;
+        CHECK(solve_stratified(water, named).ledger.surface_reflected == Approx(fresnel_reflectance(mu, 1.0, 1.34)).epsilon(1e-12));
+    }
 }

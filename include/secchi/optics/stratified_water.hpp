@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,8 +47,15 @@ public:
     using phase_type = Phase;
     static constexpr std::size_t max_components = 8;
 
-    StratifiedWater(DepthProfile profile, std::vector<Phase> phases)
-        : z_(std::move(profile.depth)), b_i_(std::move(profile.scattering)), phases_(std::move(phases)) {
+    /// refractive_index: the water's real index of refraction at the run's wavelength, where the
+    /// medium's description gives one (a material's REFRACTIVE_INDEX_MODEL, manual 5.9); the
+    /// solver's surface takes it unless told otherwise.
+    StratifiedWater(DepthProfile profile, std::vector<Phase> phases, std::optional<double> refractive_index = {})
+        : z_(std::move(profile.depth)), b_i_(std::move(profile.scattering)), phases_(std::move(phases)),
+          refractive_index_(refractive_index) {
+        if (refractive_index_)
+            require(std::isfinite(*refractive_index_) && *refractive_index_ >= 1.0, "refractive index of water",
+                    *refractive_index_, "must be finite and >= 1");
         validate(profile.absorption);
         const std::size_t n = z_.size();
         k_[0] = std::move(profile.absorption);
@@ -65,6 +73,7 @@ public:
     }
 
     [[nodiscard]] std::size_t components() const { return phases_.size(); }
+    [[nodiscard]] std::optional<double> refractive_index() const { return refractive_index_; }
     [[nodiscard]] const std::vector<Phase>& phases() const { return phases_; }
     [[nodiscard]] const std::vector<double>& depths() const { return z_; }
 
@@ -276,6 +285,7 @@ private:
     std::vector<std::vector<double>> b_i_;
     std::vector<std::vector<double>> component_cumulative_;  ///< int b_i at the nodes
     std::vector<Phase> phases_;
+    std::optional<double> refractive_index_;
     double inverse_spacing_ = 0.0;  ///< 1 / h for equally spaced nodes, else 0
 };
 

@@ -81,7 +81,10 @@ struct PlaneParallelConfig {
     SourceKind source = SourceKind::sun_and_sky;
     ParametricSkySpec parametric_sky;  ///< with SourceKind::parametric_sky (its sun zenith: sun_zenith_deg)
     AtmosphereSpec atmosphere;         ///< with SourceKind::atmosphere (its sun zenith: sun_zenith_deg)
-    double water_index = 1.34;     ///< 1.0 = no interface
+    /// The refractive index of water at the surface (1.0 = no interface). Unset: the medium's
+    /// own (a material's REFRACTIVE_INDEX_MODEL at the run's wavelength), or M93's 1.34 where
+    /// the medium has none; set, it overrides the medium's.
+    std::optional<double> water_index;
     FacetSlopes slopes;            ///< a wind-blown surface's facet slopes (scene/wind_blown_surface.hpp); all 0: flat
     FacetSampling facets = FacetSampling::projected_area;  ///< how a wind-blown surface's facets are met
     Bottom bottom;                 ///< depth in metres
@@ -163,14 +166,23 @@ TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, co
     return PhotonTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
 }
 
+/// The surface's refractive index of water: cfg's override, else the medium's own, else 1.34.
+template <Medium M>
+double water_index_of(const M& medium, const PlaneParallelConfig& cfg) {
+    if (cfg.water_index) return *cfg.water_index;
+    if constexpr (requires { { medium.refractive_index() } -> std::convertible_to<std::optional<double>>; })
+        if (const std::optional<double> n = medium.refractive_index()) return *n;
+    return 1.34;
+}
+
 /// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.
 template <PhotonRecord Record, Medium M>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnySource& source,
                                    const PlaneParallelConfig& cfg) {
+    const double n = water_index_of(medium, cfg);
     if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
-        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, cfg.water_index, cfg.facets),
-                                          source, cfg);
-    return first_pass_through<Record>(medium, slab, FlatSurface(cfg.water_index), source, cfg);
+        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets), source, cfg);
+    return first_pass_through<Record>(medium, slab, FlatSurface(n), source, cfg);
 }
 
 /// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the

@@ -101,7 +101,8 @@ inline std::vector<double> uniform_depths(double max_depth, double spacing) {
 }
 
 /// The model at one wavelength as the transport's depth profile: a and every b_i sampled at
-/// the depth nodes (x = (0, 0, z)), linear in between (stratified_water.hpp).
+/// the depth nodes (x = (0, 0, z)), linear in between (stratified_water.hpp), and the water's
+/// refractive index at that wavelength (which the surface then takes).
 template <class Model>
 StratifiedWater<AnyPhaseFunction> stratify(const Model& m, double wavelength_nm, std::span<const double> depths) {
     DepthProfile profile;
@@ -115,7 +116,7 @@ StratifiedWater<AnyPhaseFunction> stratify(const Model& m, double wavelength_nm,
         profile.scattering.push_back(std::move(b));
         phases.push_back(to_any_phase(s.phase));
     });
-    return StratifiedWater<AnyPhaseFunction>(std::move(profile), std::move(phases));
+    return StratifiedWater<AnyPhaseFunction>(std::move(profile), std::move(phases), m.refractive_index(wavelength_nm));
 }
 
 }  // namespace secchi::iop
