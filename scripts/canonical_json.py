@@ -2,7 +2,9 @@
 conformance_report.py and seed_study.py share.
 
 A file is {"entries": [{"problem", "depth", "depth_unit", "quantity", "value", "se",
-"reference", "spread", "relative_error", "scored_error", "scored", "pass"}, ...], "seconds"};
+"reference", "spread", "relative_error", "scored_error", "scored", "pass", "blocked", "source"}, ...],
+"seconds"} ("blocked": why an entry waits for the specification; "source": the light source of a
+run reported beside the scored one; both empty otherwise);
 a non-finite number is written as null.
 """
 import math
@@ -18,9 +20,12 @@ def number(x):
 
 
 def entry_key(e):
-    """(problem, depth, quantity): numeric depths as floats (1 and 1.0 alike), others as text."""
+    """(problem, depth, quantity): numeric depths as floats (1 and 1.0 alike), others as text. A
+    run reported beside a problem's scored one under another light source (its "source", e.g.
+    problem 4 under a parametric sky) is a problem of its own, "4/gc-sky"."""
     d = number(e.get("depth"))
-    return (str(e.get("problem")), d if not math.isnan(d) else str(e.get("depth")), str(e.get("quantity")))
+    problem = str(e.get("problem")) + (f"/{e['source']}" if e.get("source") else "")
+    return (problem, d if not math.isnan(d) else str(e.get("depth")), str(e.get("quantity")))
 
 
 def depth_label(e):

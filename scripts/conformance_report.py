@@ -132,6 +132,8 @@ def relative_se(e):
 def verdict(e):
     if e is None:
         return "-"
+    if e.get("blocked"):
+        return "blocked"
     if not e.get("scored", True):
         return "reported"
     return "pass" if e.get("pass") else "FAIL"
@@ -214,7 +216,9 @@ def summary(runs, problems):
 def problem_title(problem):
     if is_kirk(problem):
         return "Kirk's relations" + ("" if problem.lower() == "kirk" else f" ({problem})")
-    return f"Problem {problem}" + (f": {TITLES[problem]}" if problem in TITLES else "")
+    base, _, source = problem.partition("/")
+    title = f"Problem {base}" + (f": {TITLES[base]}" if base in TITLES else "")
+    return title + (f", under {source} (reported beside the scored run)" if source else "")
 
 
 def svg_name(problem):
@@ -230,7 +234,8 @@ def report(runs, studies):
              "(problem 3). Per store: our value with its relative standard error (SE), and err, our relative "
              "error to the printed reference. The verdicts are the runner's: a scored entry passes when its "
              "error to the interval the printed mean stands for is within max(s/x, 3 SE) and its SE within "
-             "max(s/x, 0.5 %) (with --quick: within max(s/x, 4 SE)); \"reported\" entries are shown, not scored. "
+             "max(s/x, 0.5 %) (with --quick: within max(s/x, 4 SE)); \"reported\" entries are shown, not scored, "
+             "and \"blocked\" ones wait for the specification (their reasons are listed at the end). "
              "The pass column gives the stores' verdicts in the table's order. "
              "DIRSIG err is the manual's value relative to the M93 mean.", "",
              "## Summary", ""] + summary(runs, list(problems))
@@ -239,6 +244,14 @@ def report(runs, studies):
         if is_kirk(problem):
             lines += ["The reference is Kirk's relation (canonical_problems.md section 7), not M93.", ""]
         lines += [f"![problem {escape(problem)}]({svg_name(problem)})", ""] + problem_table(problem, keys, runs)
+    blocked = {(e.get("problem"), e.get("depth"), e.get("quantity")): e.get("blocked")
+               for run in runs for e in run.entries.values() if e.get("blocked")}
+    if blocked:
+        lines += ["", "## Blocked entries", "",
+                  "Entries whose verdict hangs on a question the specification (canonical_problems.md) leaves "
+                  "open: reported, not scored, until it answers.", ""]
+        lines += [f"- problem {cell(p)}, depth {cell(d)}, {cell(q)}: {cell(why)}" for (p, d, q), why in sorted(
+            blocked.items(), key=lambda kv: tuple(str(x) for x in kv[0]))]
     for path, study in studies:
         table = seed_study.markdown(study)
         store = str(study.get("store", ""))

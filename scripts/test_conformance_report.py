@@ -97,6 +97,33 @@ class ReportTest(unittest.TestCase):
         self.assertEqual(self.row("euphotic zone", "Kd/a")[4:7], ["1.900e0 (1.05%)", "-5.00%", "pass"])
         self.assertIn("## Kirk's relations\n", self.md)
 
+    def test_blocked_entries_shown_with_their_reason(self):
+        blocked = entry("5", 10, "Ed", 0.01463, 0.00001, 0.0148, 0.007, passed=False, scored=False)
+        blocked["blocked"] = "the specification leaves it open"
+        with tempfile.TemporaryDirectory() as d:
+            write_json(os.path.join(d, "conformance_voi.json"), [blocked], 1.0)
+            with contextlib.redirect_stdout(io.StringIO()):
+                conformance_report.main([d])
+            with open(os.path.join(d, "conformance_report.md")) as f:
+                md = f.read()
+        self.assertIn("| tau 10 | Ed | 1.48e-2 | 0.7% | 1.463e-2 (0.07%) | -1.15% | blocked |", md)
+        self.assertIn("## Blocked entries", md)
+        self.assertIn("- problem 5, depth 10, Ed: the specification leaves it open", md)
+
+    def test_a_run_under_another_source_is_a_problem_of_its_own(self):
+        scored = entry("4", 1, "Ed", 0.336, 0.0002, 0.323, 0.076)
+        reported = entry("4", 1, "Ed", 0.335, 0.0001, 0.323, 0.076, scored=False)
+        reported["source"] = "gc-sky"
+        with tempfile.TemporaryDirectory() as d:
+            write_json(os.path.join(d, "conformance_voi.json"), [scored, reported], 1.0)
+            with contextlib.redirect_stdout(io.StringIO()):
+                conformance_report.main([d])
+            with open(os.path.join(d, "conformance_report.md")) as f:
+                md = f.read()
+        self.assertIn("| tau 1 | Ed | 3.23e-1 | 7.6% | 3.360e-1 (0.06%) | +4.02% | pass |", md)
+        self.assertIn("under gc-sky (reported beside the scored run)", md)
+        self.assertIn("| tau 1 | Ed | 3.23e-1 | 7.6% | 3.350e-1 (0.03%) | +3.72% | reported |", md)
+
     def test_summary_lines(self):
         self.assertIn("- k-d tree (`conformance_kdtree.json`): 3 of 5 scored M93 entries pass; "
                       "3 of 3 scored Kirk entries pass, 1 reported only; failing: 1a tau 1 Lu, 1a tau 5 Lu.", self.md)
