@@ -10,7 +10,7 @@
 // with SE our relative standard error (so a noisy run cannot pass by being noisy), and error
 // our relative distance to the interval the printed three-digit mean stands for (see
 // distance_to_printed_interval). Every entry of Table 5 is scored (no exemptions).
-// --quick divides the photon budgets by 5 for the test suite and checks bias only:
+// --quick divides the photon budgets by 5 (2b: by 2) for the test suite and checks bias only:
 //   error <= max(s/x, 4 SE)  (4 SE: ~60 checks must not fail by chance).
 #include "kirk.hpp"
 #include "m93_table5.hpp"
@@ -93,6 +93,7 @@ struct ProblemSpec {
     double slope_variance = 0.0;  ///< of a wind-blown surface's facets (0: flat)
     SourceKind source = SourceKind::sun_and_sky;
     double importance_cosine = 0.0;  ///< depth importance's mu_i (transport/importance.hpp); 0: off
+    std::uint64_t quick_divisor = 5;  ///< --quick traces photons / quick_divisor
 };
 
 const std::vector<ProblemSpec> problems = {
@@ -104,8 +105,12 @@ const std::vector<ProblemSpec> problems = {
     {"1b", "rayleigh", 0.2, 2'000'000, 2'000'000, Bottom::infinitely_deep(), {1.0, 5.0, 10.0}, 60.0, 0.0,
      SourceKind::sun_and_sky, 1.0},
     {"2a", "petzold", 0.9, 1'000'000, 1'000'000},
+    // 2b's Lu at tau 5 lies 24 % above M93's mean (an independent Monte Carlo,
+    // scripts/independent_lu_check.py --w0 0.2: 7.73e-7 +- 0.7 % against 6.24e-7), inside a
+    // 35.5 % spread: at a fifth of the budget its SE (5 %) would leave 2 SE between the truth
+    // and the spread's edge, so --quick traces half the budget here.
     {"2b", "petzold", 0.2, 6'000'000, 6'000'000, Bottom::infinitely_deep(), {1.0, 5.0, 10.0}, 60.0, 0.0,
-     SourceKind::sun_and_sky, 1.0},
+     SourceKind::sun_and_sky, 1.0, 2},
     // Problem 3 reaches 60 m (Ed falls 1e4-fold): depth importance (geometric splitting,
     // transport/importance.hpp) keeps photons and map photons at depth, growing like
     // exp(tau_a / 0.6) down to the deepest detector.
@@ -191,7 +196,7 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     auto& t = cfg.transport;
     cfg.bottom = p.bottom;
     t.depths = p.depths;
-    const std::uint64_t divisor = quick ? 5 : 1;
+    const std::uint64_t divisor = quick ? p.quick_divisor : 1;
     t.photons = cl.count("photons", p.photons / divisor);
     t.map_photons = std::min(t.photons, p.map_photons / divisor);
     t.seed = cl.count("seed", 1);

@@ -18,6 +18,7 @@ SE understates its spread). No photon map, no collection volume, no cone average
 to compare with `canonical --problem 2a` (M93 Table 5: 6.99e-3, 3.26e-3, 1.21e-3).
 
     python3 scripts/independent_lu_check.py [PHOTONS] [SEED] [PSI_T,...]   (default 4e6 7 0,2.29,5)
+    python3 scripts/independent_lu_check.py --w0 0.2 [PHOTONS] [SEED] [PSI_T,...]   (problem 2b)
     python3 scripts/independent_lu_check.py --problem3 [PHOTONS] [SEED] [PSI_T,...]
 
 4e6 photons take about 7 minutes on one core. With --problem3, the same estimate of Lu at 5,
@@ -30,7 +31,7 @@ import numpy as np
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
 from independent_ed_check import fresnel_R, read_table  # noqa: E402
 
-W0, A, B, N_WATER, SUN = 0.9, 0.1, 0.9, 1.34, np.radians(60.0)
+W0, N_WATER, SUN = 0.9, 1.34, np.radians(60.0)
 DEPTHS = np.array([1.0, 5.0, 10.0])
 
 
@@ -58,7 +59,8 @@ class CanonicalPetzold:
         return float(np.interp(psi, self.th, self.cdf))
 
 
-def run(photons, seed, psi_ts, batches=16):
+def run(photons, seed, psi_ts, w0=W0, batches=16):
+    A, B = 1.0 - w0, w0  # c = 1 /m
     pf = CanonicalPetzold()
     shares = [pf.share_within(np.radians(t)) if t > 0 else 0.0 for t in psi_ts]
     rng = np.random.default_rng(seed)
@@ -203,7 +205,13 @@ def run_problem3(photons, seed, psi_t, depths=(5.0, 25.0, 60.0), batches=16, rou
 
 
 def main():
-    args = [a for a in sys.argv[1:] if a != "--problem3"]
+    argv = sys.argv[1:]
+    w0 = W0
+    if "--w0" in argv:  # --w0 0.2: problem 2b (M93 Table 5: 5.47e-5, 6.24e-7, 4.02e-9)
+        at = argv.index("--w0")
+        w0 = float(argv[at + 1])
+        del argv[at:at + 2]
+    args = [a for a in argv if a != "--problem3"]
     photons = int(float(args[0])) if len(args) > 0 else 4_000_000
     seed = int(args[1]) if len(args) > 1 else 7
     psi_ts = [float(x) for x in args[2].split(",")] if len(args) > 2 else [0.0, 2.29, 5.0]
@@ -214,7 +222,7 @@ def main():
                 cells = "  ".join(f"Lu({d:g} m) {mean[j]:.4e} ({100 * se[j] / mean[j]:.1f} %)" for j, d in enumerate(depths))
                 print(f"problem 3, psi_t {psi_t:4.2f} deg:  {cells}", flush=True)
             return
-        shares, mean, se = run(photons, seed, psi_ts)
+        shares, mean, se = run(photons, seed, psi_ts, w0)
     for i, psi_t in enumerate(psi_ts):
         cells = "  ".join(f"Lu({d:g}) {mean[i, j]:.4e} ({100 * se[i, j] / mean[i, j]:.1f} %)" for j, d in enumerate(DEPTHS))
         print(f"psi_t {psi_t:4.2f} deg (f = {shares[i]:.3f}):  {cells}")

@@ -1,6 +1,8 @@
 // Second pass: the map's radiance estimate against the exact single-scattering answer, and
 // the collection volumes / stores against each other on identical maps.
 #include <catch2/catch.hpp>
+#include "../conformance/problem3.hpp"
+#include "secchi/optics/iop/linear_model.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
@@ -398,4 +400,34 @@ TEST_CASE("StratifiedRayOptics needs one cone per scattering component, and says
     auto two = one;
     two.emplace_back(HenyeyGreensteinPhase(0.3), 0.005);
     CHECK_NOTHROW(StratifiedRayOptics(water, two));
+}
+
+TEST_CASE("Lu's rays follow the attenuation to the stated residual transmittance, or end at the bottom") {
+    PlaneParallelConfig cfg;
+    cfg.ray_transmittance = 1e-4;
+    // Homogeneous water, c = 1.2, b = 0.5, the peak averaged: c' = c, length ln(1e4) / 1.2.
+    const ConeAveragedPhase averaged(HenyeyGreensteinPhase(0.9), 0.005, ConePeak::averaged);
+    const HomogeneousRayOptics plain(averaged, 1.2, 0.5);
+    CHECK(detail::nadir_ray_length(plain, 3.0, cfg) == Approx(std::log(1e4) / 1.2).epsilon(1e-8));
+    // The peak transmitted: c' = c - b f, a longer ray.
+    const ConeAveragedPhase transmitted(HenyeyGreensteinPhase(0.9), 0.005);
+    const HomogeneousRayOptics peaked(transmitted, 1.2, 0.5);
+    CHECK(detail::nadir_ray_length(peaked, 3.0, cfg) ==
+          Approx(std::log(1e4) / (1.2 - 0.5 * transmitted.transmitted_fraction())).epsilon(1e-8));
+    // A bottom within reach ends the ray there.
+    cfg.bottom = Bottom::lambertian_at(5.0, 0.5);
+    CHECK(detail::nadir_ray_length(plain, 3.0, cfg) == 2.0);
+    cfg.bottom = Bottom::infinitely_deep();
+    // Depth-varying water: the ray from 60 m in canonical problem 3's water, where c is about
+    // 0.17 /m, reaches tens of metres (an 8 m ray kept only about three quarters of the path
+    // radiance); its transmittance there is the stated residual.
+    const auto water = iop::stratify(conformance::problem3_model(), 500.0, iop::uniform_depths(200.0, 0.05));
+    std::vector<ConeAveragedPhase<AnyPhaseFunction>> cones;
+    for (const auto& p : water.phases()) cones.emplace_back(p, 0.005);
+    const StratifiedRayOptics optics(water, cones);
+    const double length = detail::nadir_ray_length(optics, 60.0, cfg);
+    const Ray ray{{0.0, 0.0, 60.0}, {0.0, 0.0, 1.0}, length};
+    CHECK(length > 40.0);
+    CHECK(optics.transmittance(ray, length) == Approx(1e-4).epsilon(1e-6));
+    CHECK(optics.transmittance(ray, 8.0) > 0.2);
 }
