@@ -10,7 +10,7 @@
 // with SE our relative standard error (so a noisy run cannot pass by being noisy), and error
 // our relative distance to the interval the printed three-digit mean stands for (see
 // distance_to_printed_interval). Every entry of Table 5 is scored (no exemptions).
-// --quick divides the photon budgets by 5 (2b: by 2) for the test suite and checks bias only:
+// --quick divides the photon budgets by 5 (2b: by 2; 6: by 1) for the test suite and checks bias only:
 //   error <= max(s/x, 4 SE)  (4 SE: ~60 checks must not fail by chance).
 #include "kirk.hpp"
 #include "m93_table5.hpp"
@@ -129,7 +129,12 @@ const std::vector<ProblemSpec> problems = {
     // Problem 6: problem 2b over an opaque Lambertian bottom of irradiance reflectance 0.5 at
     // tau = 5 (c = 1 /m: 5 m), reported at tau 1 and on the bottom. There Eou = 2 Eu = Ed
     // exactly (solver/plane_parallel.hpp, eou_on_lambertian_bottom) and Lu = 0.5 Ed / pi.
-    {"6", "petzold", 0.2, 40'000'000, 4'000'000, Bottom::lambertian_at(5.0, 0.5), {1.0, 5.0}},
+    // Its Lu at tau 1 holds the bottom's light scattered by small angles, carried by few map
+    // photons: at a fifth of the map (8e5) the batch SE reads 1.0 % where 8 seeds at the full
+    // map scatter by 1.8 % (seed study), i.e. the SE is not yet honest there; --quick traces
+    // the full budget (about 20 s).
+    {"6", "petzold", 0.2, 40'000'000, 4'000'000, Bottom::lambertian_at(5.0, 0.5), {1.0, 5.0}, 60.0, 0.0,
+     SourceKind::sun_and_sky, 0.0, 1},
 };
 
 struct Entry {
