@@ -8,7 +8,7 @@
 //
 // The lanes are the target's native vector of doubles (2 with SSE2, 4 with AVX2, 8 with
 // AVX-512), or of floats (twice as many: LaneTracer's float lanes): a portable build gains
-// little from them; one for AVX2 or better does (BENCHMARKS.md). A photon's history does not
+// little from them; one for AVX2 or better does (docs/design-notes.md). A photon's history does not
 // depend on the lane count (each photon draws from its own random stream); the order of the
 // stored records and the rounding of the tallies' sums do.
 #if __has_include(<experimental/simd>)
@@ -161,10 +161,10 @@ SECCHI_KERNEL PhiloxWords4 philox_rounds4(const std::uint64_t* block, const std:
 /// each holding a 32-bit word, and a word becomes a double as (2^52 + word) - 2^52 (1.10x
 /// LaneTracer's speed). With AVX2 the same rounds run on 256-bit vectors with vpmuludq, the
 /// 32 x 32 -> 64-bit multiply, as the one multiply each needs: LaneTracer 1.18x on a Zen 3
-/// (BENCHMARKS.md, seventh session); written through std::experimental::simd, GCC makes each
-/// a 64-bit multiply of three instructions and the rounds were 1.08x slower than the loop below.
+/// (docs/design-notes.md); written through std::experimental::simd, GCC makes each a 64-bit
+/// multiply of three instructions, and such rounds are 1.08x slower than the loop below.
 /// Elsewhere a loop of philox_block over the lanes, which GCC vectorises with its
-/// 32 x 32 -> 64-bit multiplies (the vector rounds measured 1.06x slower with SSE2).
+/// 32 x 32 -> 64-bit multiplies (vector rounds are 1.06x slower with SSE2).
 /// The lanes' block and stream numbers are read from `block` and `stream`, the uniforms
 /// written to u[0..3] (arrays of lane_width doubles, vector-aligned).
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,

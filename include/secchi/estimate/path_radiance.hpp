@@ -22,8 +22,8 @@
 // and the phase function's interpolation. The values are the same on every ray of one
 // direction (+z or -z): the estimator builds the two directions' tables once, when it is
 // constructed (a few microseconds), and every estimate() and accumulate() call looks them up.
-// (Built per accumulate() call instead, they made a short ray of ~60 photons 4 times as slow:
-// BENCHMARKS.md, fourteenth session.) The result is bit-identical to the per-photon formula
+// (Built per accumulate() call, they would make a short ray of ~60 photons 4 times as slow:
+// docs/design-notes.md.) The result is bit-identical to the per-photon formula
 // (see detail::vertical_cosines for why); optics without the tabulated form, other records and other rays take the per-photon formula.
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
@@ -349,7 +349,7 @@ private:
     /// through lanes::lane_width photons at a time, each group's values added to the batch
     /// sums in order: the same sums, bit for bit, as one photon at a time. Each group reads
     /// its records once, for the code and the batch (1.06-1.12 times the grid's estimate rate
-    /// against codes for 64 photons, then their values, then their sums: BENCHMARKS.md).
+    /// against codes for 64 photons, then their values, then their sums: docs/design-notes.md).
     template <class Coded>
     struct CodedRuns {
         const std::vector<Record>& records;

@@ -27,7 +27,7 @@
 // fuses both alike; tests/test_stores.cpp compares with in_cylinder bit for bit where it
 // cannot fuse and to rounding where it can.
 //
-// Measured in BENCHMARKS.md ("Sixth session" for AVX-512, "Seventh session" for AVX2).
+// Speed against the portable loops: docs/design-notes.md ("VOI leaf scan").
 #include "secchi/map/store.hpp"
 #include <array>
 #include <cstddef>
@@ -71,7 +71,7 @@ inline constexpr std::uint32_t kScanSlack = 8;
 /// are zeros, so perp = (dx, dy, dz - dz uz uz) = (dx, dy, 0) exactly. distance2 is written
 /// as the same sum of the same three squares (pz = 0), so that a compiler that fuses
 /// multiply-adds fuses both forms alike: tests/test_stores.cpp compares the two kernels bit
-/// for bit on vertical rays. 1.10-1.14 times the grid's search rate (BENCHMARKS.md).
+/// for bit on vertical rays. 1.10-1.14 times the grid's search rate (docs/design-notes.md).
 template <bool Vertical, class V>
 inline void cylinder_lanes(const V& x, const V& y, const V& z, const V (&o)[3], const V (&u)[3], V& t, V& distance2) {
     const V dx = x - o[0], dy = y - o[1], dz = z - o[2];

@@ -20,7 +20,7 @@
 //    child in a loop and stacks only far children still to visit, and prefetches the
 //    grandchildren's records (4 adjacent heap slots) on the way down; hits come in the order
 //    of the recursive version (node, near subtree, far subtree). 15-20 % faster than
-//    push-both-children with no prefetch (BENCHMARKS.md, "before/after").
+//    push-both-children with no prefetch (docs/design-notes.md).
 //  - along(ray, r): descends with each subtree's bounding box (the root box clipped at the
 //    splitting planes) and prunes a subtree whose box, padded by r, the ray segment misses
 //    (slab test, the manual's VOI idea of 3.5); each visited node's record is tested with

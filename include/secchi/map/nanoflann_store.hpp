@@ -7,7 +7,7 @@
 // that permutation's order and the permutation made the identity: each leaf's records are
 // one contiguous run, as in the other stores ("stored in build order of the tree"). The tree
 // and its searches are unchanged; the hits are the same records, indexed in the new order.
-// 1.3-1.75 times the search rate of input order (BENCHMARKS.md, fourteenth session).
+// 1.3-1.75 times the search rate of input order (docs/design-notes.md).
 //
 // Coordinates are read in double (for CompactRecord the float position converts exactly), so
 // nanoflann's squared distances agree with the exact ones to a few ulps. Its L2 metric works

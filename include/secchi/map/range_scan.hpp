@@ -9,11 +9,12 @@
 // record: map/cylinder_scan.hpp's SIMD kernel where the target has AVX2 and FMA or AVX-512
 // (CompactRecord), else loops the compiler vectorises (measure()).
 // The lead: the grid's column ranges (vertical rays: ~21 ranges of ~750 records per ray) are
-// longer than what the processor's own prefetchers fetch ahead, and the scan waited on memory
-// (most of the kernel's cycles on its loads) when only the first 4 KiB of the next range was
-// hinted. A steady lead of 4 KiB gave the grid's estimate 1.28-1.33 times the rays/s (1-16 KiB
-// alike within the noise) and left the octree's (leaves of <= 128 records) unchanged within
-// the noise (Zen 5, BENCHMARKS.md, sixteenth session). The octree's tuning: voi_octree.hpp.
+// longer than what the processor's own prefetchers fetch ahead, so the scan is bound by
+// memory latency (most of the kernel's cycles go to its loads) unless the hints run ahead of
+// it. A steady lead of 4 KiB gives the grid's estimate 1.23-1.33 times the rays/s of hinting
+// only the first 4 KiB of the next range (leads of 1-16 KiB alike within the noise) and leaves
+// the octree's (leaves of <= 128 records) unchanged within the noise (Zen 5;
+// docs/design-notes.md). The octree's tuning: voi_octree.hpp.
 #include "secchi/map/cylinder_scan.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
@@ -144,7 +145,7 @@ private:
     /// records per register): first the positions are copied into one array per axis, then
     /// t, distance2 and the acceptance are computed for every slot without a branch. Each
     /// lane does in_cylinder's operations in its order, so the values are its values, bit for
-    /// bit. (Testing the records one by one in scalar double, as before, was bound by the
+    /// bit. (Testing the records one by one in scalar double is bound by the
     /// floating-point ports: ~25 operations per record.) The loops run to a whole number of
     /// 4-record vectors where the records exist, so that no scalar remainder loop runs
     /// (leaves are 43 records on average); the extra slots are computed and ignored.

@@ -27,11 +27,11 @@
 // tree descent with a box test per node, and each column's records are one long run that
 // the processor's prefetchers stream; the records tested per hit depend on the column width
 // against r (narrower: fewer wasted records, more columns). Measured (search_bench, a
-// problem-2a map of 6.5e6 records, Zen 3), at r = 0.026 with cells r/2 by r:
+// problem-2a map of 6.5e6 records, on a Zen 3), at r = 0.026 with cells r/2 by r:
 //  - vertical rays (nadir views, the conformance problems' Lu) cut each column once, over
 //    their length: 21 ranges and 15,900 records tested per ray for 9,200 hits (the octree:
 //    601 nodes and 17,300 tested); 1.4-2.6 times the octree's search rate over
-//    r = 0.013-0.052; columns of r/2 or narrower were fastest, the height mattered little;
+//    r = 0.013-0.052; columns of r/2 or narrower are fastest, the height matters little;
 //  - slanted rays cut more columns, each over a shorter range (rays of length 1 at 30-85
 //    degrees from the vertical: 160-200 ranges, 2.7-3 records tested per hit): 2.1-2.9
 //    times the octree's search rate.
@@ -80,7 +80,7 @@ public:
     /// rays through a problem-2a map and through uniform points; BENCHMARKS.md). For slanted
     /// rays, columns r wide and r tall (the width/height constructor) cut fewer, longer
     /// ranges: 1.3-2.2 times this shape's search rate at 30-85 degrees from the vertical, and
-    /// 0.8 times it on vertical rays (search_bench --suite tune, ninth session).
+    /// 0.8 times it on vertical rays (search_bench --suite tune, on a Zen 3).
     static constexpr double column_width_per_radius = 0.5, cell_height_per_radius = 1.0;
     VoiGridStore(std::vector<Record> records, Radius collection_radius)
         : VoiGridStore(std::move(records), column_width_per_radius * collection_radius.value(),

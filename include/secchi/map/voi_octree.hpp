@@ -43,34 +43,28 @@
 // records are filtered without a branch per record (range_scan.hpp's filter()), so a leaf costs little more
 // than streaming its records, while every node costs a box test and, once the map outgrows
 // the cache, a likely miss. Search time per ray therefore falls with the leaf size up to 128:
-// relative to 128, leaves of 4, 8, 16, 32, 64 run at about 0.4, 0.5, 0.55, 0.7, 0.9 of its
-// rays/s, and memory falls too (about 42, 34, 26, 20, 19, 17 bytes per CompactRecord at 4 ...
-// 128). 128 is the default. (With a branch per record, as first built, 32-128 were level.)
+// relative to 128, leaves of 4, 8, 16, 32, 64 run at about 0.18, 0.22, 0.33, 0.5, 0.66 of its
+// rays/s (Zen 5), and memory falls too (about 42, 34, 26, 20, 19, 17 bytes per CompactRecord
+// at 4 ... 128). 128 is the default. (With a branch per record, leaves of 32-128 would run level.)
 // Bulk accept pays when the radius is large against the leaves' boxes (at r = 0.05 about 40 %
 // of the hits are accepted in bulk with leaf 128) and costs one cheap test per node otherwise.
-// Software prefetching of the children and a depth-first node layout were tried and measured
-// no faster. Changing the leaf size reorders the records, so sums over hits change in their
+// Changing the leaf size reorders the records, so sums over hits change in their
 // last bits (not in value beyond rounding).
 // Where the target has AVX-512 (F and VL) or AVX2 and FMA (the benchmarks' -march=native
 // build), the leaf scan of CompactRecords is map/cylinder_scan.hpp's: eight (AVX-512) or four
 // (AVX2) records per step, the accepted ones packed by register compresses or a table-driven
 // permute, for chunks of any length (no scalar path for short ones), with the same hits and
 // values. Search only, against the loops below: about 1.15 times the rays/s, with AVX-512 on
-// a Zen 4 and with AVX2 on a Zen 3 alike (BENCHMARKS.md, sixth and seventh sessions). Otherwise:
+// a Zen 4 and with AVX2 on a Zen 3 alike (docs/design-notes.md). Otherwise:
 // the leaf scan (range_scan.hpp: filter(), measure()) computes in_cylinder's double arithmetic in loops the
 // compiler vectorises (two records per SSE2 register) for chunks of 32 records or more: at
 // leaf size 128 about 1.1 times the rays/s of testing one record at a time (tune suite,
-// r = 0.026 and 0.05), which was bound by the floating-point ports (~25 operations per
-// record, ~4 ns); shorter chunks are still tested one record at a time (filter_scalar()). Measured and not kept: a float
-// pre-filter (four records per register, thresholds widened by a rounding bound, so that
-// only records it cannot reject get the exact double test): 0.92-0.96 times, as 40 % of the
-// tested records are accepted and need the double work anyway; the vectorised arithmetic
-// for bulk ranges too: equal with the estimator, 0.95 with a counting collector
-// (report_all(), inlined with the collector, skips what the collector does not use);
-// prefetching further ahead (2 to 4 ranges, or a steady 2-16 KiB ahead of the scan): slower
-// on a Zen 3 (none at all: 0.77 times), no different on a Zen 5, where the steady 4 KiB lead
-// now serves both VOI stores (range_scan.hpp); merging adjacent ranges of the walk (half as
-// many ranges) and chunks of 128 records: no change.
+// r = 0.026 and 0.05), which is bound by the floating-point ports (~25 operations per
+// record, ~4 ns); shorter chunks are tested one record at a time (filter_scalar()).
+// Records are prefetched a steady 4 KiB ahead of the scan (range_scan.hpp). Variants measured
+// and not used (a float pre-filter, the vectorised arithmetic for bulk ranges, other prefetch
+// distances, merged ranges, chunks of 128 records, prefetching the children, a depth-first
+// node layout): docs/design-notes.md.
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
@@ -202,7 +196,7 @@ private:
         // record ranges to scan (leaves) or report whole (bulk), in walk order, in `work`;
         // stream() then goes through the list, prefetching the records a few KiB ahead of
         // the scan. Scanning streams ~5,000 records per ray from memory and is limited by it
-        // (BENCHMARKS.md); the hits and their order are those of the one-phase walk.
+        // (docs/design-notes.md); the hits and their order are those of the one-phase walk.
         const detail::CylinderRanges<Record> ranges(records_);
         typename detail::CylinderRanges<Record>::WorkList work;
         Stack stack;

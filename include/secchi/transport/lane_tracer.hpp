@@ -48,7 +48,7 @@ concept LanePhaseSampler = requires(const P p, Lanes u) {
 };
 
 /// Real: the lanes' precision. double by default; float doubles the lanes per vector (8 with
-/// AVX2) for about 1.5 times the speed (BENCHMARKS.md, twelfth session), with positions,
+/// AVX2) for about 1.5 times the speed (BENCHMARKS.md), with positions,
 /// directions and weights rounded to float between events (a relative 6e-8; the map's records
 /// hold floats anyway), and detector tallies summed in float over at most flush_steps steps
 /// per lane before they join the block's double sums.
@@ -219,8 +219,8 @@ private:
 
     /// Every lane's photon to its next event: PhotonTracer::follow's loop body, per lane.
     /// Inlined into trace_block's loop with its helpers (fly, store_events, the records, the
-    /// detectors): calls that passed vectors through memory were 13 % of LaneTracer's
-    /// instructions (valgrind; BENCHMARKS.md, tenth session).
+    /// detectors): as calls, they pass vectors through memory, 13 % of LaneTracer's
+    /// instructions (valgrind; docs/design-notes.md).
     SECCHI_KERNEL void step(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
         StepUniforms u;
         draw(L, u);

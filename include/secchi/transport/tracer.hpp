@@ -105,7 +105,7 @@ public:
 
     /// Traces the photons. The map's records go into `storage` (cleared first): pass the
     /// records of an earlier run (`std::move(result.records)`) to reuse their memory, which
-    /// spares the page faults of fresh memory (about a sixth of LaneTracer's time; BENCHMARKS.md).
+    /// spares the page faults of fresh memory (about a sixth of LaneTracer's time; docs/design-notes.md).
     TransportResult<Record> run(std::vector<Record> storage = {}) const {
         return run_blocks(
             [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); },
