@@ -9,6 +9,9 @@
 
 namespace secchi::bench {
 
+/// The width W (m) of the slab's periodic section.
+inline constexpr double section_width = 1.0;
+
 /// Traced by PhotonTracer, or by another tracer of the same interface (LaneTracer).
 template <class Record, template <class, class> class Tracer = PhotonTracer, class Phase>
 TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_deg, double n_water,
@@ -20,7 +23,7 @@ TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_
     s.threads = threads;
     s.absorption = mode;
     s.depths = {1.0, 5.0, 10.0};
-    const Slab slab(1.0, Bottom{}, 42.0);
+    const Slab slab(section_width, Bottom{}, 42.0);
     return Tracer<HomogeneousWater<Phase>, Record>(water, slab, FlatSurface(n_water), CollimatedSun(zenith_deg), s)
         .run(std::move(storage));
 }
@@ -30,7 +33,8 @@ TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_
 template <class Store, class Volume, class Cone>
 auto radiance_estimator(const Store& store, const Volume& volume, const Cone& cone, const RecordFlux& flux,
                         unsigned batches, double radius) {
-    return PathRadianceEstimator(store, volume, HomogeneousRayOptics(cone, 1.0, 0.9), flux, batches, Radius(radius));
+    return PathRadianceEstimator(store, volume, HomogeneousRayOptics(cone, 1.0, 0.9), flux, batches, Radius(radius),
+                                 PeriodicSection(section_width));
 }
 
 }  // namespace secchi::bench

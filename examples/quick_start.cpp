@@ -24,7 +24,8 @@ int main() {
     // (or VoiGridStore<CompactRecord>(first.records, Radius(0.05)): the same query, faster)
     const ConeAveragedPhase cone(water.phase(), /*omega=*/0.005);   // its forward peak travels on along the ray
     const HomogeneousRayOptics optics{cone, water.attenuation(), water.scattering()};  // pbar_omega(psi) exp(-c' t), eq. 3.18
-    const PathRadianceEstimator lu(map, VoiCylinder{}, optics, first.map_flux, first.batches, Radius(0.05));
+    const PathRadianceEstimator lu(map, VoiCylinder{}, optics, first.map_flux, first.batches, Radius(0.05),
+                                   PeriodicSection(slab.width()));
     const Ray down{{0.5, 0.5, 5.0}, {0.0, 0.0, 1.0}, 5.0};               // from 5 m to the bottom
     const auto in_water = lu.estimate(nadir_ray_grid(down.origin.z, down.t_max, /*k=*/10, slab.width()), 2);
     // plus the bottom's reflected radiance A Ed(bottom) / pi, carried up the 5 m by the ray's transmittance

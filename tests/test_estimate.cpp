@@ -77,8 +77,9 @@ TEST_CASE("The VOI cylinder compensates the water's top and bottom on slanted ra
     const VoiOctreeStore<CompactRecord> store(records);
     const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), 0.0, 0.0);
     const Radius r(0.05);
-    const PathRadianceEstimator compensated(store, VoiCylinder(0.0, depth), optics, RecordFlux::uniform(1.0), batches, r);
-    const PathRadianceEstimator uncompensated(store, VoiCylinder(-INFINITY, INFINITY), optics, RecordFlux::uniform(1.0), batches, r);
+    const PeriodicSection section(1.0);  // the photons' x and y: [0, 1)
+    const PathRadianceEstimator compensated(store, VoiCylinder(0.0, depth), optics, RecordFlux::uniform(1.0), batches, r, section);
+    const PathRadianceEstimator uncompensated(store, VoiCylinder(-INFINITY, INFINITY), optics, RecordFlux::uniform(1.0), batches, r, section);
     for (const auto* rays : {&near_top, &near_bottom}) {
         const auto with = compensated.estimate(*rays, 2).radiance;
         const auto without = uncompensated.estimate(*rays, 2).radiance;
@@ -271,6 +272,9 @@ void check_bit_identical(const A& est, const B& reference, unsigned batches, con
     }
 }
 
+/// The section compact_map's photons are wrapped into.
+const PeriodicSection section(1.0);
+
 template <class Water>
 TransportResult<CompactRecord> compact_map(const Water& water, std::uint64_t photons, DepthImportance importance = {}) {
     TransportSettings s;
@@ -278,7 +282,7 @@ TransportResult<CompactRecord> compact_map(const Water& water, std::uint64_t pho
     s.importance = importance;
     s.depths = {1.0};
     s.threads = 2;
-    const Slab slab(1.0, Bottom{}, 30.0);
+    const Slab slab(section.width(), Bottom{}, 30.0);
     return PhotonTracer<Water, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
 }
 }  // namespace
@@ -295,29 +299,29 @@ TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identic
     const auto rays = rays_every_way(1.0);
     const Radius r(0.1);
     SECTION("VOI cylinder") {
-        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r),
-                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r, section),
+                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r, section), map.batches, rays);
     }
     SECTION("VOI cylinder in the grid (runs of photons: in_scatter_lanes with lanes::exp)") {
         const VoiGridStore<CompactRecord> grid(map.records, r);
-        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r),
-                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r, section),
+                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r, section), map.batches, rays);
     }
     SECTION("transmittances beyond exp_table's range (c t > 708) take its special values") {
         const HomogeneousRayOptics murky(cone, 250.0, 0.0);
         const PerPhotonOnly<HomogeneousRayOptics> murky_per_photon{murky};
         const VoiGridStore<CompactRecord> grid(map.records, r);
-        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, RecordFlux::uniform(1.0), map.batches, r),
-                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, RecordFlux::uniform(1.0), map.batches, r),
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, RecordFlux::uniform(1.0), map.batches, r, section),
+                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, RecordFlux::uniform(1.0), map.batches, r, section),
                             map.batches, rays);
     }
     SECTION("k-d tree spheres") {
-        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, RecordFlux::uniform(1.0), map.batches, r),
-                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, RecordFlux::uniform(1.0), map.batches, r), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, RecordFlux::uniform(1.0), map.batches, r, section),
+                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, RecordFlux::uniform(1.0), map.batches, r, section), map.batches, rays);
     }
     SECTION("the two vertical tables are built once, with the estimator; never per call, never for full records") {
         const CountingOptics counting(cone, water.attenuation(), water.scattering());
-        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r);
+        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r, section);
         CHECK(*counting.tabulated == 2);  // down and up
         const auto vertical = est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2);
         const auto every_way = est.estimate(rays_every_way(1.0), 2);
@@ -336,13 +340,13 @@ TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identic
         std::vector<FullRecord> full;
         for (const auto& rec : map.records) full.push_back(FullRecord::make(rec.position(), rec.direction(), rec.band(), rec.batch()));
         const VoiOctreeStore<FullRecord> full_store(full);
-        const PathRadianceEstimator full_est(full_store, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r);
+        const PathRadianceEstimator full_est(full_store, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r, section);
         // The same photons with the same decoded directions, through the per-photon formula.
         CHECK(full_est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2).radiance.value ==
               Approx(vertical.radiance.value).epsilon(1e-12));
         CHECK(*counting.tabulated == 2);
         // The shared tables give each ray the sums accumulate() gives it alone.
-        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r);
+        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r, section);
         double total = 0.0;
         for (const Ray& ray : rays_every_way(1.0)) {
             std::vector<double> one(map.batches, 0.0);
@@ -367,8 +371,8 @@ TEST_CASE("Vertical rays through a compact map in stratified water: per-componen
     REQUIRE(map.map_flux.importance.level(5.0) > map.map_flux.importance.level(1.0));
     const PerPhotonOnly<StratifiedRayOptics<StratifiedWater<HenyeyGreensteinPhase>>> per_photon{optics};
     const Radius r(0.1);
-    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, map.map_flux, map.batches, r),
-                        PathRadianceEstimator(voi, VoiCylinder{}, per_photon, map.map_flux, map.batches, r), map.batches,
+    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, map.map_flux, map.batches, r, section),
+                        PathRadianceEstimator(voi, VoiCylinder{}, per_photon, map.map_flux, map.batches, r, section), map.batches,
                         rays_every_way(1.0));
 }
 
@@ -381,10 +385,10 @@ TEST_CASE("The estimator refuses fewer batches than the map has, and too short a
     const HomogeneousRayOptics optics(ConeAveragedPhase(hg, 0.005), water.attenuation(), water.scattering());
     using Catch::Matchers::Contains;
     // A photon of the last batch would be summed outside the estimator's sums.
-    CHECK_THROWS_WITH(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches - 1, Radius(0.1)),
+    CHECK_THROWS_WITH(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches - 1, Radius(0.1), section),
                       Contains("batches") && Contains(std::to_string(map.batches - 1)) &&
                           Contains("batch index " + std::to_string(map.batches - 1)));
-    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, Radius(0.1));
+    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, Radius(0.1), section);
     const Ray ray{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, 4.0};
     std::vector<double> short_sums(map.batches - 1, 0.0), sums(map.batches, 0.0);
     CHECK_THROWS_WITH(est.accumulate(ray, short_sums), Contains("batch_sums size"));

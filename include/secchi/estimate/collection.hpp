@@ -15,6 +15,11 @@
 //    cross-section is taken at the plane it has crossed, so that no weight grows without bound.
 // Each calls visit(record index, distance along the ray, weight); VoiCylinder passes the
 // stores' runs of hits whole to a visitor that takes them (ChunkVisitor).
+// Each volume gathers around a ray inside the store's section, gather(store, ray, r, visit),
+// and around any ray in a periodic section, gather(store, ray, r, section, visit) (periodic_ray.hpp:
+// the unwrapped ray's volume from the section's photons and their images; distances along the
+// unwrapped ray).
+#include "secchi/estimate/periodic_ray.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
@@ -41,8 +46,9 @@ concept ChunkVisitor = requires(V v, std::uint32_t index, double distance, doubl
 
 template <class V>
 concept CollectionVolume = requires(const V v, const BruteForceStore<CompactRecord>& s, Ray ray, Radius r,
-                                    CollectionVisitorArchetype visit) {
+                                    PeriodicSection section, CollectionVisitorArchetype visit) {
     { v.gather(s, ray, r, visit) };
+    { v.gather(s, ray, r, section, visit) };
     { v.name() } -> std::convertible_to<std::string>;
 };
 
@@ -88,22 +94,50 @@ public:
     [[nodiscard]] std::string name() const { return "spheres(" + std::to_string(steps_) + ")"; }
     [[nodiscard]] unsigned steps() const { return steps_; }
 
+    /// The spheres of a ray inside the section.
     template <class Store, class Visit>
     void gather(const Store& store, const Ray& ray, Radius r, Visit&& visit) const {
-        const double dr = ray.t_max / steps_;
-        for (unsigned i = 0; i < steps_; ++i) {
-            const vec3 centre = ray.origin + ray.direction * ((i + 0.5) * dr);
-            const double weight = dr / sphere_volume_in_slab(centre.z, r.value(), top_, bottom_);
-            auto collect = [&](const Hit& h) {
-                const double t = glm::dot(store.records()[h.index].position() - ray.origin, ray.direction);
-                visit(h.index, t, weight);
-                return true;
-            };
-            store.within(centre, r, collect);
-        }
+        for_each_sphere(ray, r, [&](const vec3& centre, double weight) {
+            collect(store, ray, r, centre, vec3(0.0), weight, visit);
+        });
+    }
+
+    /// The spheres of any ray in a periodic section: the steps along the whole unwrapped ray,
+    /// each sphere's centre moved into the section, with its images.
+    template <class Store, class Visit>
+    void gather(const Store& store, const Ray& ray, Radius r, const PeriodicSection& section, Visit&& visit) const {
+        for_each_sphere(ray, r, [&](const vec3& centre, double weight) {
+            const vec3 offset = section.cell_offset(centre), c = centre - offset;
+            section.for_each_image(c.x - r.value(), c.x + r.value(), c.y - r.value(), c.y + r.value(),
+                                   [&](const vec3& shift) { collect(store, ray, r, c + shift, offset - shift, weight, visit); });
+        });
     }
 
 private:
+    /// Calls f(centre, weight) for each of the n spheres: centred at the midpoints of n equal
+    /// steps dr along the ray, weight dr / (the sphere's volume inside the water).
+    template <class F>
+    void for_each_sphere(const Ray& ray, Radius r, F&& f) const {
+        const double dr = ray.t_max / steps_;
+        for (unsigned i = 0; i < steps_; ++i) {
+            const vec3 centre = ray.origin + ray.direction * ((i + 0.5) * dr);
+            f(centre, dr / sphere_volume_in_slab(centre.z, r.value(), top_, bottom_));
+        }
+    }
+
+    /// Visits the records within r of `query`, a record at q lying at q + unwrap in the ray's
+    /// frame (distance along the ray: its projection).
+    template <class Store, class Visit>
+    static void collect(const Store& store, const Ray& ray, Radius r, const vec3& query, const vec3& unwrap,
+                        double weight, Visit& visit) {
+        auto hit = [&](const Hit& h) {
+            const double t = glm::dot(store.records()[h.index].position() + unwrap - ray.origin, ray.direction);
+            visit(h.index, t, weight);
+            return true;
+        };
+        store.within(query, r, hit);
+    }
+
     unsigned steps_;
     double top_, bottom_;
 };
@@ -141,6 +175,21 @@ public:
             };
             store.along(ray, r, collect);
         }
+    }
+
+    /// The cylinder of any ray in a periodic section: the cylinders of the ray's pieces and their
+    /// images (PeriodicSection::for_each_piece_image), distances along the whole ray. The
+    /// pieces' cylinders meet at their flat caps, so each photon image counts once (one lying
+    /// exactly on a cap, a set of measure zero, may count in both).
+    template <class Store, class Visit>
+    void gather(const Store& store, const Ray& ray, Radius r, const PeriodicSection& section, Visit&& visit) const {
+        section.for_each_piece_image(ray, r.value(), [&](const Ray& query, double t0) {
+            if (t0 == 0.0) {  // the first piece (a vertical ray's only one): its distances are the ray's
+                gather(store, query, r, visit);
+            } else {  // a later piece: its photons one at a time, their distances moved by t0
+                gather(store, query, r, [&](std::uint32_t index, double t, double weight) { visit(index, t0 + t, weight); });
+            }
+        });
     }
 
 private:

@@ -14,6 +14,11 @@
 // becomes exp(-int c' dt) along the ray: the RayOptics policy supplies both.
 // Standard error: each photon belongs to one of B batches; each batch alone is an estimate
 // with flux B * Phi per photon.
+// The map's photons lie in the section [0, W)^2 of a horizontally periodic water body: any ray
+// (any origin, direction and length, crossing the seams any number of times) collects from
+// the section's photons and their periodic images, t being the distance along the unwrapped
+// ray (the volumes' periodic gather, estimate/periodic_ray.hpp). The collection radius must be
+// < W/2.
 //
 // Vertical rays (every nadir or zenith ray, e.g. nadir_ray_grid's) through a map of records
 // whose direction stores its polar angle as a byte (CompactRecord): there cos psi depends on
@@ -29,6 +34,7 @@
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
+#include "secchi/estimate/periodic_ray.hpp"
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/chord_table.hpp"
@@ -231,12 +237,14 @@ template <class Store, CollectionVolume Volume, RayOptics Optics>
 class PathRadianceEstimator {
 public:
     /// flux: the map's own normalisation (TransportResult::map_flux; RecordFlux::uniform(Phi)
-    /// for a map of equal-flux records made otherwise).
+    /// for a map of equal-flux records made otherwise). section: the periodic section the map's
+    /// photons were wrapped into (the Slab's width); radius < section.width() / 2.
     PathRadianceEstimator(const Store& store, Volume volume, Optics optics, const RecordFlux& flux, unsigned batches,
-                          Radius radius)
+                          Radius radius, PeriodicSection section)
         : store_(store), volume_(std::move(volume)), optics_(std::make_shared<const Optics>(std::move(optics))),
-          tables_(vertical_tables()), flux_(flux), batches_(batches), radius_(radius) {
+          tables_(vertical_tables()), flux_(flux), batches_(batches), radius_(radius), section_(section) {
         require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
+        section.require_radius(radius.value());
         // Every photon's batch must have its sum: a batch index >= batches would be summed
         // outside batch_sums (once per store, O(N), far below the store's own build).
         unsigned highest = 0;
@@ -305,9 +313,10 @@ private:
     }
 
     /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays), else the
-    /// per-photon one. A ray whose collection volume reaches below the depth the map stored
-    /// events to is refused: its estimate would miss photons.
+    /// per-photon one. A ray of no finite length, or whose collection volume reaches below the
+    /// depth the map stored events to, is refused: its estimate would miss photons.
     std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums) const {
+        require(std::isfinite(ray.t_max) && ray.t_max >= 0.0, "ray length (m)", ray.t_max, "must be finite and >= 0");
         const double deepest = std::max(ray.origin.z, ray.origin.z + ray.t_max * ray.direction.z) +
                                radius_.value() * sin_from_cos(ray.direction.z);
         if (deepest > flux_.stored_to_depth)
@@ -333,7 +342,7 @@ private:
         if constexpr (requires(const std::uint8_t* k, const double* t, double* out) { coded.in_scatter_lanes(k, t, out); }) {
             if (flux_.is_uniform()) {
                 CodedRuns<Coded> sum{store_.records(), coded, ray, batch_sums};
-                volume_.gather(store_, ray, radius_, sum);
+                volume_.gather(store_, ray, radius_, section_, sum);
                 return sum.touched;
             }
         }
@@ -389,7 +398,7 @@ private:
     std::uint64_t sum_photons(const Ray& ray, std::span<double> batch_sums, InScatter&& in_scatter) const {
         std::uint64_t touched = 0;
         const auto& records = store_.records();
-        volume_.gather(store_, ray, radius_, [&](std::uint32_t index, double t, double weight) {
+        volume_.gather(store_, ray, radius_, section_, [&](std::uint32_t index, double t, double weight) {
             const auto& rec = records[index];
             const double w = flux_.is_uniform() ? weight : weight * relative_flux(rec.position().z);
             batch_sums[rec.batch()] += w * in_scatter(rec, t);
@@ -406,6 +415,7 @@ private:
     RecordFlux flux_;
     unsigned batches_;
     Radius radius_;
+    PeriodicSection section_;
 };
 
 /// A K x K grid of parallel vertical rays looking straight down from depth z over the

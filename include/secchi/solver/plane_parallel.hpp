@@ -221,7 +221,8 @@ double nadir_ray_length(const Optics& optics, double z, const PlaneParallelConfi
 template <class Store, CollectionVolume Volume, RayOptics Optics, class Record>
 void estimate_lu(const Store& store, const Volume& volume, const Optics& optics, const PlaneParallelConfig& cfg,
                  const TransportResult<Record>& tr, PlaneParallelResult& out) {
-    const PathRadianceEstimator est(store, volume, optics, tr.map_flux, tr.batches, Radius(cfg.radius));
+    const PathRadianceEstimator est(store, volume, optics, tr.map_flux, tr.batches, Radius(cfg.radius),
+                                    PeriodicSection(cfg.section_width));
     for (auto& d : out.depths) {
         const double length = nadir_ray_length(optics, d.depth, cfg);
         if (length > 0.0) {
