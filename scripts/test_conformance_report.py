@@ -33,6 +33,16 @@ def write_json(path, entries, seconds=12.0):
 KIRK_LABEL = "R(0) <mu0=1> & b/a | C"
 
 
+def report_of(entries):
+    """The report of one VOI-octree JSON holding `entries`, as markdown."""
+    with tempfile.TemporaryDirectory() as d:
+        write_json(os.path.join(d, "conformance_voi.json"), entries, 1.0)
+        with contextlib.redirect_stdout(io.StringIO()):
+            conformance_report.main([d])
+        with open(os.path.join(d, "conformance_report.md")) as f:
+            return f.read()
+
+
 def kdtree_entries():
     return [entry("1a", 1, "Ed", 0.365, 0.000365, 0.366, 0.002),
             entry("1a", 1, "Eou", 0.375, 0.00075, 0.372, 0.005),
@@ -100,12 +110,7 @@ class ReportTest(unittest.TestCase):
     def test_blocked_entries_shown_with_their_reason(self):
         blocked = entry("5", 10, "Ed", 0.01463, 0.00001, 0.0148, 0.007, passed=False, scored=False)
         blocked["blocked"] = "the specification leaves it open"
-        with tempfile.TemporaryDirectory() as d:
-            write_json(os.path.join(d, "conformance_voi.json"), [blocked], 1.0)
-            with contextlib.redirect_stdout(io.StringIO()):
-                conformance_report.main([d])
-            with open(os.path.join(d, "conformance_report.md")) as f:
-                md = f.read()
+        md = report_of([blocked])
         self.assertIn("| tau 10 | Ed | 1.48e-2 | 0.7% | 1.463e-2 (0.07%) | -1.15% | blocked |", md)
         self.assertIn("## Blocked entries", md)
         self.assertIn("- problem 5, depth 10, Ed: the specification leaves it open", md)
@@ -114,12 +119,7 @@ class ReportTest(unittest.TestCase):
         scored = entry("4", 1, "Ed", 0.336, 0.0002, 0.323, 0.076)
         reported = entry("4", 1, "Ed", 0.335, 0.0001, 0.323, 0.076, scored=False)
         reported["source"] = "gc-sky"
-        with tempfile.TemporaryDirectory() as d:
-            write_json(os.path.join(d, "conformance_voi.json"), [scored, reported], 1.0)
-            with contextlib.redirect_stdout(io.StringIO()):
-                conformance_report.main([d])
-            with open(os.path.join(d, "conformance_report.md")) as f:
-                md = f.read()
+        md = report_of([scored, reported])
         self.assertIn("| tau 1 | Ed | 3.23e-1 | 7.6% | 3.360e-1 (0.06%) | +4.02% | pass |", md)
         self.assertIn("under gc-sky (reported beside the scored run)", md)
         self.assertIn("| tau 1 | Ed | 3.23e-1 | 7.6% | 3.350e-1 (0.03%) | +3.72% | reported |", md)
