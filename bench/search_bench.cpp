@@ -56,6 +56,9 @@ TransportResult<Record> trace_2a(std::uint64_t photons, unsigned threads) {
     return trace_slab<Record>(petzold_m93(), 0.9, 60.0, 1.34, photons, threads, AbsorptionMode::continuous);
 }
 
+/// The scene trace_2a traces in.
+MapScene scene_2a() { return slab_scene(60.0, 1.34); }
+
 /// At least n records of the 2a light field (FullRecord), in photon order, cut to n.
 std::vector<FullRecord> records_2a(std::size_t n) {
     std::uint64_t photons = n / 7 + 1000;  // about 8.2 records per photon
@@ -150,9 +153,9 @@ struct Collected {
 };
 
 template <class Store, class Volume>
-Collected collect(const Options& o, const Store& store, const Volume& volume, const Cone& cone,
-                  const TransportResult<CompactRecord>& map, const std::vector<Ray>& rays, double radius) {
-    const auto est = radiance_estimator(store, volume, cone, map.map_flux, map.batches, radius);
+Collected collect(const Options& o, const PhotonMap<Store>& map, const Volume& volume, const Cone& cone,
+                  const std::vector<Ray>& rays, double radius) {
+    const auto est = radiance_estimator(map, volume, cone, radius);
     RadianceEstimate r;
     const Timing t = time_runs(o.repeats, [&] { r = est.estimate(rays, 1); });
     return {t, rays.size() / t.median, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
@@ -197,9 +200,10 @@ std::vector<Ray> tilted(const std::vector<Ray>& rays, double theta) {
 }
 
 void suite_collect(const Options& o) {
-    const auto map = trace_2a<CompactRecord>(o.map_photons, 2);
-    const KdTreeStore<CompactRecord> kd(map.records);
-    const VoiOctreeStore<CompactRecord> voi(map.records);
+    const auto first = trace_2a<CompactRecord>(o.map_photons, 2);
+    const MapScene scene = scene_2a();
+    const auto kd = photon_map<KdTreeStore<CompactRecord>>(first, scene);
+    const auto voi = photon_map<VoiOctreeStore<CompactRecord>>(first, scene);
     const Cone cone(petzold_m93(), 0.005);
     const auto rays = nadir_ray_grid(1.0, 8.0, 10, 1.0);
     const double r = 0.05;
@@ -207,7 +211,7 @@ void suite_collect(const Options& o) {
 
     out(o, "### Radiance collection through a problem-2a map\n");
     out(o, "Map: " + fmt("%.3g", static_cast<double>(o.map_photons)) + " photons traced for problem 2a, " +
-               fmt("%.3g", static_cast<double>(map.records.size())) +
+               fmt("%.3g", static_cast<double>(first.records.size())) +
                " CompactRecords stored. Rays: the 10 x 10 grid of vertical rays of length L = 8 m from tau = 1 "
                "(nadir_ray_grid), radiance estimator (cone-averaged Petzold, omega = 0.005 sr), 1 thread; "
                "rays/s = 100 / (median time of " + std::to_string(o.repeats) + " runs), [min-max]. "
@@ -215,13 +219,13 @@ void suite_collect(const Options& o) {
     out(o, "#### At equal collection radius r = 0.05 m\n");
     out(o, "| collection | rays/s [min-max] | search-only rays/s | photons/ray | ns per photon | of which radiance arithmetic | Lu +- SE |");
     out(o, "|---|---|---|---|---|---|---|");
-    const auto v = collect(o, voi, VoiCylinder{}, cone, map, rays, r);
-    const auto vs = search_only(o.repeats, voi, VoiCylinder{}, rays, r);
+    const auto v = collect(o, voi, VoiCylinder{}, cone, rays, r);
+    const auto vs = search_only(o.repeats, voi.store(), VoiCylinder{}, rays, r);
     std::vector<Collected> k;
     std::vector<double> k_search;  // search-only median seconds per n
     for (unsigned n : {8u, 16u, 32u, 64u, 128u}) {
-        const auto c = collect(o, kd, StepSpheres(n), cone, map, rays, r);
-        const auto s = search_only(o.repeats, kd, StepSpheres(n), rays, r);
+        const auto c = collect(o, kd, StepSpheres(n), cone, rays, r);
+        const auto s = search_only(o.repeats, kd.store(), StepSpheres(n), rays, r);
         k.push_back(c);
         k_search.push_back(s.first.median);
         out(o, "| k-d tree, n = " + std::to_string(n) + " | " + rate_cell(c.t, nr) + " | " + fmt("%.4g", nr / s.first.median) +
@@ -229,9 +233,9 @@ void suite_collect(const Options& o) {
                    " | " + fmt("%.3g", (c.t.median - s.first.median) / nr / c.photons_per_ray * 1e9) + " | " + lu_cell(c.lu) + " |");
     }
     {
-        const NanoflannStore<CompactRecord> nf(map.records);
-        const auto c = collect(o, nf, StepSpheres(32), cone, map, rays, r);
-        const auto s = search_only(o.repeats, nf, StepSpheres(32), rays, r);
+        const auto nf = photon_map<NanoflannStore<CompactRecord>>(first, scene);
+        const auto c = collect(o, nf, StepSpheres(32), cone, rays, r);
+        const auto s = search_only(o.repeats, nf.store(), StepSpheres(32), rays, r);
         out(o, "| nanoflann, n = 32 | " + rate_cell(c.t, nr) + " | " + fmt("%.4g", nr / s.first.median) + " | " +
                    fmt("%.4g", c.photons_per_ray) + " | " + fmt("%.3g", c.t.median / nr / c.photons_per_ray * 1e9) +
                    " | " + fmt("%.3g", (c.t.median - s.first.median) / nr / c.photons_per_ray * 1e9) + " | " + lu_cell(c.lu) + " |");
@@ -243,9 +247,9 @@ void suite_collect(const Options& o) {
     };
     cylinder_row("VOI cylinder (octree)", v, vs);
     {
-        const VoiGridStore<CompactRecord> grid(map.records, Radius(r));
-        cylinder_row("VOI cylinder (grid, cells for r)", collect(o, grid, VoiCylinder{}, cone, map, rays, r),
-                     search_only(o.repeats, grid, VoiCylinder{}, rays, r));
+        const auto grid = photon_map<VoiGridStore<CompactRecord>>(first, scene, Radius(r));
+        cylinder_row("VOI cylinder (grid, cells for r)", collect(o, grid, VoiCylinder{}, cone, rays, r),
+                     search_only(o.repeats, grid.store(), VoiCylinder{}, rays, r));
     }
     out(o, "");
     out(o, "VOI / k-d rays/s at equal radius: " + [&] {
@@ -270,13 +274,13 @@ void suite_collect(const Options& o) {
     const unsigned ns[] = {8, 16, 32, 64, 128};
     for (std::size_t i = 0; i < k.size(); ++i) {
         const double rc = r * std::sqrt(k[i].photons_per_ray / v.photons_per_ray);
-        const auto c = collect(o, voi, VoiCylinder{}, cone, map, rays, rc);
-        const auto cs = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
-        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.map_flux, map.batches, r);
-        const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, map.map_flux, map.batches, rc);
+        const auto c = collect(o, voi, VoiCylinder{}, cone, rays, rc);
+        const auto cs = search_only(o.repeats, voi.store(), VoiCylinder{}, rays, rc);
+        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, r);
+        const auto voi_est = radiance_estimator(voi, VoiCylinder{}, cone, rc);
         const Timing paired = paired_ratio(o.repeats, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); });
         const double rn = r * std::cbrt(v.photons_per_ray / k[i].photons_per_ray);
-        const auto kw = collect(o, kd, StepSpheres(ns[i]), cone, map, rays, rn);
+        const auto kw = collect(o, kd, StepSpheres(ns[i]), cone, rays, rn);
         out(o, "| " + std::to_string(ns[i]) + " | " + fmt("%.4g", k[i].photons_per_ray) + " | " + fmt("%.4g", k[i].rays_per_s) +
                    " | " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " + rate_cell(c.t, nr) + " | " +
                    lu_cell(c.lu) + " | " + lu_cell(k[i].lu) + " | **" + fmt("%.3g", paired.median) + "** [" +
@@ -291,12 +295,12 @@ void suite_collect(const Options& o) {
     out(o, "|---|---|---|---|---|---|---|---|---|");
     for (std::size_t i = 0; i < k.size(); ++i) {
         const double rc = r * std::sqrt(k[i].photons_per_ray / v.photons_per_ray);
-        const VoiGridStore<CompactRecord> grid(map.records, Radius(rc));
-        const auto c = collect(o, grid, VoiCylinder{}, cone, map, rays, rc);
-        const auto cs = search_only(o.repeats, grid, VoiCylinder{}, rays, rc);
-        const auto os = search_only(o.repeats, voi, VoiCylinder{}, rays, rc);
-        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, map.map_flux, map.batches, r);
-        const auto grid_est = radiance_estimator(grid, VoiCylinder{}, cone, map.map_flux, map.batches, rc);
+        const auto grid = photon_map<VoiGridStore<CompactRecord>>(first, scene, Radius(rc));
+        const auto c = collect(o, grid, VoiCylinder{}, cone, rays, rc);
+        const auto cs = search_only(o.repeats, grid.store(), VoiCylinder{}, rays, rc);
+        const auto os = search_only(o.repeats, voi.store(), VoiCylinder{}, rays, rc);
+        const auto kd_est = radiance_estimator(kd, StepSpheres(ns[i]), cone, r);
+        const auto grid_est = radiance_estimator(grid, VoiCylinder{}, cone, rc);
         const Timing paired = paired_ratio(o.repeats, [&] { kd_est.estimate(rays, 1); }, [&] { grid_est.estimate(rays, 1); });
         out(o, "| " + std::to_string(ns[i]) + " | " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " +
                    rate_cell(c.t, nr) + " | " + lu_cell(c.lu) + " | " + lu_cell(k[i].lu) + " | **" + fmt("%.3g", paired.median) +
@@ -306,7 +310,7 @@ void suite_collect(const Options& o) {
 #if SECCHI_BENCH_EMBREE
     {  // the optional comparator at the n = 32 cylinder's radius (embree_spheres.hpp), search only
         const double rc = r * std::sqrt(k[2].photons_per_ray / v.photons_per_ray);
-        const VoiGridStore<CompactRecord> grid(map.records, Radius(rc));
+        const VoiGridStore<CompactRecord> grid(first.records, Radius(rc));
         const EmbreeSpheres embree(grid.records(), rc);
         const auto es = embree_search(o.repeats, embree, rays);
         const auto gs = search_only(o.repeats, grid, VoiCylinder{}, rays, rc);

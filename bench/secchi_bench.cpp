@@ -62,9 +62,9 @@ struct CollectionFigures {
 };
 
 template <class Store, class Volume, class Cone>
-CollectionFigures collect(const Store& store, const Volume& volume, const Cone& cone, const RecordFlux& flux, unsigned batches,
-                          const std::vector<Ray>& rays, unsigned threads, int repeats, double radius = 0.05) {
-    const auto est = radiance_estimator(store, volume, cone, flux, batches, radius);
+CollectionFigures collect(const PhotonMap<Store>& map, const Volume& volume, const Cone& cone, const std::vector<Ray>& rays,
+                          unsigned threads, int repeats, double radius = 0.05) {
+    const auto est = radiance_estimator(map, volume, cone, radius);
     RadianceEstimate r;
     const double t = time_runs(repeats, [&] { r = est.estimate(rays, threads); }).median;
     return {static_cast<double>(rays.size()) / t, static_cast<double>(r.photons_touched) / rays.size(), r.radiance};
@@ -179,26 +179,27 @@ int main(int argc, char** argv) {
         photons_per_s("2b", petzold, 0.2);
 
         // Collection through a problem-2a map: vertical rays of length 8 from tau 1.
-        const auto map = trace_slab<CompactRecord>(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous);
+        const auto first = trace_slab<CompactRecord>(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous);
+        const MapScene scene = slab_scene(60, 1.34);
         fig["bytes_per_photon_compact"] =
-            static_cast<double>(KdTreeStore<CompactRecord>(map.records).memory_bytes()) / map.records.size();
-        const KdTreeStore<CompactRecord> kd(map.records);
-        const VoiOctreeStore<CompactRecord> voi(map.records);
+            static_cast<double>(KdTreeStore<CompactRecord>(first.records).memory_bytes()) / first.records.size();
+        const auto kd = photon_map<KdTreeStore<CompactRecord>>(first, scene);
+        const auto voi = photon_map<VoiOctreeStore<CompactRecord>>(first, scene);
         const ConeAveragedPhase cone(petzold, 0.005);
         const auto rays = nadir_ray_grid(1.0, 8.0, quick ? 6 : 10, 1.0);
-        const auto k1 = collect(kd, StepSpheres(32), cone, map.map_flux, map.batches, rays, 1, repeats);
-        const auto v1 = collect(voi, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats);
+        const auto k1 = collect(kd, StepSpheres(32), cone, rays, 1, repeats);
+        const auto v1 = collect(voi, VoiCylinder{}, cone, rays, 1, repeats);
         // Thread speed-up of collection: 1 and 2 threads alternated over 7 rounds (median), so
         // short runs and the machine's noise weigh less. Each round also times the pure compute
         // loop on 1 and 2 threads (thread_speedup_compute_loop, the median over all rounds): the
         // speed-up the shared machine allowed while the collection figures were taken.
         std::vector<double> loop_speedups, busy_loop_speedups, memory_loop_speedups;
         const PointerChase chase;
-        auto median_thread_speedup = [&](const auto& store, const std::vector<Ray>& grid) {
+        auto median_thread_speedup = [&](const auto& map, const std::vector<Ray>& grid) {
             std::vector<double> speedups;
             for (int round = 0; round < 7; ++round) {
-                const auto one = collect(store, VoiCylinder{}, cone, map.map_flux, map.batches, grid, 1, 1);
-                const auto two = collect(store, VoiCylinder{}, cone, map.map_flux, map.batches, grid, 2, 1);
+                const auto one = collect(map, VoiCylinder{}, cone, grid, 1, 1);
+                const auto two = collect(map, VoiCylinder{}, cone, grid, 2, 1);
                 speedups.push_back(two.rays_per_s / one.rays_per_s);
                 loop_speedups.push_back(compute_loop_seconds<1>(1) / compute_loop_seconds<1>(2));
                 busy_loop_speedups.push_back(compute_loop_seconds<12>(1) / compute_loop_seconds<12>(2));
@@ -211,31 +212,32 @@ int main(int argc, char** argv) {
         // two cores' shared memory traffic from the estimate itself.
         const double collection_speedup = median_thread_speedup(voi, nadir_ray_grid(1.0, 8.0, 10, 1.0));
         std::vector<CompactRecord> sparse;
-        for (std::size_t i = 0; i < map.records.size(); i += 32) sparse.push_back(map.records[i]);
-        const double cached_speedup =
-            median_thread_speedup(VoiOctreeStore<CompactRecord>(std::move(sparse)), nadir_ray_grid(1.0, 8.0, 60, 1.0));
+        for (std::size_t i = 0; i < first.records.size(); i += 32) sparse.push_back(first.records[i]);
+        const PhotonMap sparse_map(VoiOctreeStore<CompactRecord>(std::move(sparse)), first.map_flux, first.batches, scene,
+                                   first.bottom_ed);
+        const double cached_speedup = median_thread_speedup(sparse_map, nadir_ray_grid(1.0, 8.0, 60, 1.0));
         // At equal photons per ray: the cylinder radius scaled so it touches as many photons
         // per ray as the 32 spheres (photons per ray scale with the cross-section).
         const double r_equal = 0.05 * std::sqrt(k1.photons_per_ray / v1.photons_per_ray);
-        const auto ve = collect(voi, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats, r_equal);
+        const auto ve = collect(voi, VoiCylinder{}, cone, rays, 1, repeats, r_equal);
         fig["voi_rays_per_s_equal_photons"] = ve.rays_per_s;
         fig["kd_rays_per_s"] = k1.rays_per_s;
         fig["voi_rays_per_s"] = v1.rays_per_s;
         // The speed-ups are paired (bench_timing.hpp's paired_ratio): 7 rounds, each timing the
         // k-d tree's estimate and then the cylinder's; the median of the rounds' ratios.
-        auto speedup_vs_kd32 = [&](const auto& store, double voi_radius) {
-            const auto kd_est = radiance_estimator(kd, StepSpheres(32), cone, map.map_flux, map.batches, 0.05);
-            const auto voi_est = radiance_estimator(store, VoiCylinder{}, cone, map.map_flux, map.batches, voi_radius);
+        auto speedup_vs_kd32 = [&](const auto& map, double voi_radius) {
+            const auto kd_est = radiance_estimator(kd, StepSpheres(32), cone, 0.05);
+            const auto voi_est = radiance_estimator(map, VoiCylinder{}, cone, voi_radius);
             return paired_ratio(7, [&] { kd_est.estimate(rays, 1); }, [&] { voi_est.estimate(rays, 1); }).median;
         };
         fig["voi_speedup_vs_kd32"] = speedup_vs_kd32(voi, 0.05);
         fig["voi_speedup_vs_kd32_equal_photons"] = speedup_vs_kd32(voi, r_equal);
         // The same cylinder on the uniform grid of columns (VoiGridStore), its cells sized for
         // the radius it serves.
-        const VoiGridStore<CompactRecord> grid(map.records, Radius(0.05)), grid_equal(map.records, Radius(r_equal));
-        const auto g1 = collect(grid, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats);
-        const auto ge =
-            collect(grid_equal, VoiCylinder{}, cone, map.map_flux, map.batches, rays, 1, repeats, r_equal);
+        const auto grid = photon_map<VoiGridStore<CompactRecord>>(first, scene, Radius(0.05));
+        const auto grid_equal = photon_map<VoiGridStore<CompactRecord>>(first, scene, Radius(r_equal));
+        const auto g1 = collect(grid, VoiCylinder{}, cone, rays, 1, repeats);
+        const auto ge = collect(grid_equal, VoiCylinder{}, cone, rays, 1, repeats, r_equal);
         fig["voi_grid_rays_per_s"] = g1.rays_per_s;
         fig["voi_grid_rays_per_s_equal_photons"] = ge.rays_per_s;
         fig["voi_grid_speedup_vs_kd32"] = speedup_vs_kd32(grid, 0.05);
@@ -247,7 +249,7 @@ int main(int argc, char** argv) {
         fig["thread_speedup_compute_loop_throughput_bound"] = median(busy_loop_speedups);
         fig["thread_speedup_memory_loop"] = median(memory_loop_speedups);
 
-        std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", map.records.size());
+        std::printf("map: %zu photons stored; rays of length 8 from tau 1, radius 0.05\n", first.records.size());
         std::printf("  k-d n=32: %.3g photons/ray, Lu %.4e +- %.1e\n", k1.photons_per_ray, k1.lu.value, k1.lu.se);
         std::printf("  VOI     : %.3g photons/ray, Lu %.4e +- %.1e\n", v1.photons_per_ray, v1.lu.value, v1.lu.se);
         std::printf("  VOI r=%.4f (equal photons): %.3g photons/ray, Lu %.4e +- %.1e\n", r_equal, ve.photons_per_ray,

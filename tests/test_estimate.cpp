@@ -74,12 +74,13 @@ TEST_CASE("The VOI cylinder compensates the water's top and bottom on slanted ra
         near_top.push_back({vec3(0.15, y, 0.01), vec3(s, 0.0, c), length});
         near_bottom.push_back({vec3(0.15, y, depth - 0.01), vec3(s, 0.0, -c), length});
     }
-    const VoiOctreeStore<CompactRecord> store(records);
+    // The photons' x and y: [0, 1), the section.
+    const PhotonMap map(VoiOctreeStore<CompactRecord>(std::move(records)), RecordFlux::uniform(1.0), batches,
+                        MapScene::open_water(1.0));
     const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), 0.0, 0.0);
     const Radius r(0.05);
-    const PeriodicSection section(1.0);  // the photons' x and y: [0, 1)
-    const PathRadianceEstimator compensated(store, VoiCylinder(0.0, depth), optics, RecordFlux::uniform(1.0), batches, r, section);
-    const PathRadianceEstimator uncompensated(store, VoiCylinder(-INFINITY, INFINITY), optics, RecordFlux::uniform(1.0), batches, r, section);
+    const PathRadianceEstimator compensated(map, VoiCylinder(0.0, depth), optics, r);
+    const PathRadianceEstimator uncompensated(map, VoiCylinder(-INFINITY, INFINITY), optics, r);
     for (const auto* rays : {&near_top, &near_bottom}) {
         const auto with = compensated.estimate(*rays, 2).radiance;
         const auto without = uncompensated.estimate(*rays, 2).radiance;
@@ -272,9 +273,12 @@ void check_bit_identical(const A& est, const B& reference, unsigned batches, con
     }
 }
 
-/// The section compact_map's photons are wrapped into.
-const PeriodicSection section(1.0);
+/// The scene compact_map traces in: a section 1 m wide, no bottom, a flat surface, the sun at 30 deg.
+MapScene compact_scene() {
+    return {Slab(1.0, Bottom{}, 30.0), FlatSurface(1.34), SkyLight::of(SunAndSky(CollimatedSun(30.0)))};
+}
 
+/// The first pass of `photons` photons through compact_scene() in `water`.
 template <class Water>
 TransportResult<CompactRecord> compact_map(const Water& water, std::uint64_t photons, DepthImportance importance = {}) {
     TransportSettings s;
@@ -282,50 +286,56 @@ TransportResult<CompactRecord> compact_map(const Water& water, std::uint64_t pho
     s.importance = importance;
     s.depths = {1.0};
     s.threads = 2;
-    const Slab slab(section.width(), Bottom{}, 30.0);
-    return PhotonTracer<Water, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
+    const MapScene scene = compact_scene();
+    return PhotonTracer<Water, CompactRecord>(water, scene.slab, *scene.flat_surface, CollimatedSun(30.0), s).run();
+}
+
+/// A map of the first pass's records (copied into a Store built with store_args) in
+/// compact_scene(), every record of flux 1.
+template <class Store, class... StoreArgs>
+PhotonMap<Store> unit_flux_map(const TransportResult<CompactRecord>& first, const StoreArgs&... store_args) {
+    return PhotonMap<Store>(Store(first.records, store_args...), RecordFlux::uniform(1.0), first.batches, compact_scene());
 }
 }  // namespace
 
 TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identical to the per-photon formula") {
     const HenyeyGreensteinPhase hg(0.9);
     const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
-    const auto map = compact_map(water, 40000);
-    const VoiOctreeStore<CompactRecord> voi(map.records);
-    const KdTreeStore<CompactRecord> kd(map.records);
+    const auto first = compact_map(water, 40000);
+    const auto voi = unit_flux_map<VoiOctreeStore<CompactRecord>>(first);
+    const auto kd = unit_flux_map<KdTreeStore<CompactRecord>>(first);
     const ConeAveragedPhase cone(hg, 0.005);
     const HomogeneousRayOptics optics(cone, water.attenuation(), water.scattering());
     const PerPhotonOnly<HomogeneousRayOptics> per_photon{optics};
     const auto rays = rays_every_way(1.0);
     const Radius r(0.1);
     SECTION("VOI cylinder") {
-        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r, section),
-                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r, section), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, r),
+                            PathRadianceEstimator(voi, VoiCylinder{}, per_photon, r), first.batches, rays);
     }
     SECTION("VOI cylinder in the grid (runs of photons: in_scatter_lanes with lanes::exp)") {
-        const VoiGridStore<CompactRecord> grid(map.records, r);
-        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r, section),
-                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, RecordFlux::uniform(1.0), map.batches, r, section), map.batches, rays);
+        const auto grid = unit_flux_map<VoiGridStore<CompactRecord>>(first, r);
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, optics, r),
+                            PathRadianceEstimator(grid, VoiCylinder{}, per_photon, r), first.batches, rays);
     }
     SECTION("transmittances beyond exp_table's range (c t > 708) take its special values") {
         const HomogeneousRayOptics murky(cone, 250.0, 0.0);
         const PerPhotonOnly<HomogeneousRayOptics> murky_per_photon{murky};
-        const VoiGridStore<CompactRecord> grid(map.records, r);
-        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, RecordFlux::uniform(1.0), map.batches, r, section),
-                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, RecordFlux::uniform(1.0), map.batches, r, section),
-                            map.batches, rays);
+        const auto grid = unit_flux_map<VoiGridStore<CompactRecord>>(first, r);
+        check_bit_identical(PathRadianceEstimator(grid, VoiCylinder{}, murky, r),
+                            PathRadianceEstimator(grid, VoiCylinder{}, murky_per_photon, r), first.batches, rays);
     }
     SECTION("k-d tree spheres") {
-        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, RecordFlux::uniform(1.0), map.batches, r, section),
-                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, RecordFlux::uniform(1.0), map.batches, r, section), map.batches, rays);
+        check_bit_identical(PathRadianceEstimator(kd, StepSpheres(8), optics, r),
+                            PathRadianceEstimator(kd, StepSpheres(8), per_photon, r), first.batches, rays);
     }
     SECTION("the two vertical tables are built once, with the estimator; never per call, never for full records") {
         const CountingOptics counting(cone, water.attenuation(), water.scattering());
-        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r, section);
+        const PathRadianceEstimator est(voi, VoiCylinder{}, counting, r);
         CHECK(*counting.tabulated == 2);  // down and up
         const auto vertical = est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2);
         const auto every_way = est.estimate(rays_every_way(1.0), 2);
-        std::vector<double> sums(map.batches, 0.0);
+        std::vector<double> sums(first.batches, 0.0);
         CHECK(est.accumulate(nadir_ray_grid(1.0, 4.0, 1, 1.0).front(), sums) > 0);
         std::vector<Ray> tilted = nadir_ray_grid(1.0, 4.0, 3, 1.0);
         for (Ray& ray : tilted) ray.direction = glm::normalize(vec3(1e-9, 0.0, 1.0));
@@ -338,18 +348,19 @@ TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identic
         CHECK(copy.estimate(rays_every_way(1.0), 1).radiance.value == every_way.radiance.value);
         CHECK(*counting.tabulated == 2);
         std::vector<FullRecord> full;
-        for (const auto& rec : map.records) full.push_back(FullRecord::make(rec.position(), rec.direction(), rec.band(), rec.batch()));
-        const VoiOctreeStore<FullRecord> full_store(full);
-        const PathRadianceEstimator full_est(full_store, VoiCylinder{}, counting, RecordFlux::uniform(1.0), map.batches, r, section);
+        for (const auto& rec : first.records) full.push_back(FullRecord::make(rec.position(), rec.direction(), rec.band(), rec.batch()));
+        const PhotonMap full_map(VoiOctreeStore<FullRecord>(std::move(full)), RecordFlux::uniform(1.0), first.batches,
+                                 compact_scene());
+        const PathRadianceEstimator full_est(full_map, VoiCylinder{}, counting, r);
         // The same photons with the same decoded directions, through the per-photon formula.
         CHECK(full_est.estimate(nadir_ray_grid(1.0, 4.0, 3, 1.0), 2).radiance.value ==
               Approx(vertical.radiance.value).epsilon(1e-12));
         CHECK(*counting.tabulated == 2);
         // The shared tables give each ray the sums accumulate() gives it alone.
-        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, r, section);
+        const PathRadianceEstimator plain(voi, VoiCylinder{}, optics, r);
         double total = 0.0;
         for (const Ray& ray : rays_every_way(1.0)) {
-            std::vector<double> one(map.batches, 0.0);
+            std::vector<double> one(first.batches, 0.0);
             plain.accumulate(ray, one);
             for (double v : one) total += v;
         }
@@ -363,34 +374,33 @@ TEST_CASE("Vertical rays through a compact map in stratified water: per-componen
     const DepthProfile profile{{0.0, 3.0, 20.0}, {0.1, 0.2, 0.05}, {{0.5, 0.1, 0.3}, {0.05, 0.6, 0.2}}};
     const StratifiedWater<HenyeyGreensteinPhase> water(profile, {HenyeyGreensteinPhase(0.9), HenyeyGreensteinPhase(0.3)});
     const DepthImportance importance{0.2, 5.0};
-    const auto map = compact_map(water, 10000, importance);
-    const VoiOctreeStore<CompactRecord> voi(map.records);
+    const auto voi = PhotonMap<VoiOctreeStore<CompactRecord>>::from_first_pass(compact_map(water, 10000, importance),
+                                                                                compact_scene());
     std::vector<ConeAveragedPhase<HenyeyGreensteinPhase>> cones;
     for (const auto& p : water.phases()) cones.emplace_back(p, 0.005);
     const StratifiedRayOptics optics(water, cones);
-    REQUIRE(map.map_flux.importance.level(5.0) > map.map_flux.importance.level(1.0));
+    REQUIRE(voi.flux().importance.level(5.0) > voi.flux().importance.level(1.0));
     const PerPhotonOnly<StratifiedRayOptics<StratifiedWater<HenyeyGreensteinPhase>>> per_photon{optics};
     const Radius r(0.1);
-    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, map.map_flux, map.batches, r, section),
-                        PathRadianceEstimator(voi, VoiCylinder{}, per_photon, map.map_flux, map.batches, r, section), map.batches,
-                        rays_every_way(1.0));
+    check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, r), PathRadianceEstimator(voi, VoiCylinder{}, per_photon, r),
+                        voi.batches(), rays_every_way(1.0));
 }
 
-TEST_CASE("The estimator refuses fewer batches than the map has, and too short a sum array") {
+TEST_CASE("The map refuses fewer batches than its photons have, and the estimator too short a sum array") {
     const HenyeyGreensteinPhase hg(0.9);
     const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
-    const auto map = compact_map(water, 2000);
-    REQUIRE(map.batches >= 2);
-    const VoiOctreeStore<CompactRecord> voi(map.records);
+    const auto first = compact_map(water, 2000);
+    REQUIRE(first.batches >= 2);
     const HomogeneousRayOptics optics(ConeAveragedPhase(hg, 0.005), water.attenuation(), water.scattering());
     using Catch::Matchers::Contains;
-    // A photon of the last batch would be summed outside the estimator's sums.
-    CHECK_THROWS_WITH(PathRadianceEstimator(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches - 1, Radius(0.1), section),
-                      Contains("batches") && Contains(std::to_string(map.batches - 1)) &&
-                          Contains("batch index " + std::to_string(map.batches - 1)));
-    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, RecordFlux::uniform(1.0), map.batches, Radius(0.1), section);
+    // A photon of the last batch would be summed outside an estimator's sums.
+    CHECK_THROWS_WITH(PhotonMap(VoiOctreeStore<CompactRecord>(first.records), RecordFlux::uniform(1.0), first.batches - 1, compact_scene()),
+                      Contains("batches") && Contains(std::to_string(first.batches - 1)) &&
+                          Contains("batch index " + std::to_string(first.batches - 1)));
+    const auto voi = unit_flux_map<VoiOctreeStore<CompactRecord>>(first);
+    const PathRadianceEstimator est(voi, VoiCylinder{}, optics, Radius(0.1));
     const Ray ray{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, 4.0};
-    std::vector<double> short_sums(map.batches - 1, 0.0), sums(map.batches, 0.0);
+    std::vector<double> short_sums(first.batches - 1, 0.0), sums(first.batches, 0.0);
     CHECK_THROWS_WITH(est.accumulate(ray, short_sums), Contains("batch_sums size"));
     CHECK(est.accumulate(ray, sums) > 0);
 }

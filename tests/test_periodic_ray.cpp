@@ -5,6 +5,7 @@
 #include "secchi/core/rng.hpp"
 #include "secchi/estimate/path_radiance.hpp"
 #include "secchi/map/kdtree.hpp"
+#include "secchi/map/photon_map.hpp"
 #include "secchi/map/voi_grid.hpp"
 #include "secchi/map/voi_octree.hpp"
 #include "secchi/optics/phase/cone_average.hpp"
@@ -124,13 +125,13 @@ TEST_CASE("A region reaching across a section edge is also searched moved by a w
 
 TEST_CASE("The estimator refuses a radius of half the section width or more, and rays of no finite length") {
     const std::vector<CompactRecord> records{CompactRecord::make(vec3(0.1, 0.1, 1.0), vec3(0.0, 0.0, 1.0), 0, 0)};
-    const VoiOctreeStore<CompactRecord> store(records);
+    const PhotonMap map(VoiOctreeStore<CompactRecord>(records), RecordFlux::uniform(1.0), 1, MapScene::open_water(0.5));
     const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), 0.5, 0.0);
     using Catch::Matchers::Contains;
-    CHECK_THROWS_WITH(PathRadianceEstimator(store, VoiCylinder{}, optics, RecordFlux::uniform(1.0), 1, Radius(0.25), PeriodicSection(0.5)),
+    CHECK_THROWS_WITH(PathRadianceEstimator(map, VoiCylinder{}, optics, Radius(0.25)),
                       Contains("radius") && Contains("0.25") && Contains("half the section width"));
     CHECK_THROWS_WITH(PeriodicSection(0.0), Contains("section width"));
-    const PathRadianceEstimator est(store, VoiCylinder{}, optics, RecordFlux::uniform(1.0), 1, Radius(0.2), PeriodicSection(0.5));
+    const PathRadianceEstimator est(map, VoiCylinder{}, optics, Radius(0.2));
     std::vector<double> sums(1, 0.0);
     CHECK_THROWS_WITH(est.accumulate({{0.1, 0.1, 0.5}, direction_at(60.0, 1.0), INFINITY}, sums), Contains("ray length"));
 }
@@ -173,16 +174,16 @@ TEST_CASE("Any ray in a periodic section collects a uniform map's exact radiance
     const auto records = uniform_map(width, depth, n, batches);
     const double rho = static_cast<double>(n) / (width * width * depth);
     const Radius r(0.05);
-    const PeriodicSection section(width);
+    const MapScene scene = MapScene::open_water(width);
     const HomogeneousRayOptics optics(ConeAveragedPhase(IsotropicPhase{}, 0.005), attenuation, 0.0);
-    const VoiOctreeStore<CompactRecord> octree(records);
-    const VoiGridStore<CompactRecord> grid(records, r);
-    const KdTreeStore<CompactRecord> kd(records);
-    const VoiCylinder cylinder(0.0, depth);
     const RecordFlux flux = RecordFlux::uniform(1.0);
-    const PathRadianceEstimator by_octree(octree, cylinder, optics, flux, batches, r, section);
-    const PathRadianceEstimator by_grid(grid, cylinder, optics, flux, batches, r, section);
-    const PathRadianceEstimator by_spheres(kd, StepSpheres(64, 0.0, depth), optics, flux, batches, r, section);
+    const PhotonMap octree(VoiOctreeStore<CompactRecord>(records), flux, batches, scene);
+    const PhotonMap grid(VoiGridStore<CompactRecord>(records, r), flux, batches, scene);
+    const PhotonMap kd(KdTreeStore<CompactRecord>(records), flux, batches, scene);
+    const VoiCylinder cylinder(0.0, depth);
+    const PathRadianceEstimator by_octree(octree, cylinder, optics, r);
+    const PathRadianceEstimator by_grid(grid, cylinder, optics, r);
+    const PathRadianceEstimator by_spheres(kd, StepSpheres(64, 0.0, depth), optics, r);
 
     // Groups of rays: at 0, 30, 60, 85 and 90 degrees from the vertical, up to 10 widths long;
     // and rays along the seams (x = 0, x = W, y = 0), through the corners, and vertical rays

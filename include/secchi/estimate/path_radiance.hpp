@@ -35,6 +35,7 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/collection.hpp"
 #include "secchi/estimate/periodic_ray.hpp"
+#include "secchi/map/photon_map.hpp"
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/chord_table.hpp"
@@ -68,6 +69,24 @@ concept RayOptics = requires(const O o, double z, double cos_psi, Ray ray, doubl
     { o.in_scatter(z, cos_psi, ray, t) } -> std::convertible_to<double>;
     { o.transmittance(ray, t) } -> std::convertible_to<double>;
 };
+
+/// How far along `ray` the light beyond adds at most a share `threshold` of its own: the distance
+/// t at which the optics' transmittance from the ray's start falls to `threshold` (bisection on
+/// the monotone transmittance, to 1e-9 relative), or ray.t_max if it is reached first.
+template <RayOptics Optics>
+double length_to_transmittance(const Optics& optics, const Ray& ray, double threshold) {
+    require(threshold > 0.0 && threshold < 1.0, "ray transmittance", threshold, "must lie in (0, 1)");
+    const auto beyond = [&](double t) { return optics.transmittance(ray, t) <= threshold; };
+    double hi = 1.0;
+    while (!beyond(hi) && hi < ray.t_max) {
+        hi *= 2.0;
+        require(hi < 1e7, "ray transmittance", threshold, "is not reached within 1e7 m: the water is too clear");
+    }
+    if (!beyond(hi)) return ray.t_max;
+    double lo = 0.0;
+    for (int i = 0; i < 60 && hi - lo > 1e-9 * hi; ++i) (beyond(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+    return std::min(hi, ray.t_max);
+}
 
 /// cos psi for each of the 256 values of a record's polar code, along one ray.
 using CodedCosines = std::array<double, 256>;
@@ -184,6 +203,9 @@ struct StratifiedRayOptics {
             require(cones.size() <= max_components, "cones", cones.size(), "exceeds the water's max_components");
         for (const auto& cone : cones) transmitted.push_back(cone.transmitted_fraction());
     }
+    /// The optics refer to the water: a temporary one would be gone before the first query.
+    template <class ConePhase>
+    StratifiedRayOptics(const Water&&, const std::vector<ConePhase>&) = delete;
     const Water& water;
     std::vector<ChordTable> phases;
     std::vector<double> transmitted;  ///< f_i of each component's cone
@@ -236,55 +258,56 @@ struct StratifiedRayOptics {
 template <class Store, CollectionVolume Volume, RayOptics Optics>
 class PathRadianceEstimator {
 public:
-    /// flux: the map's own normalisation (TransportResult::map_flux; RecordFlux::uniform(Phi)
-    /// for a map of equal-flux records made otherwise). section: the periodic section the map's
-    /// photons were wrapped into (the Slab's width); radius < section.width() / 2.
-    PathRadianceEstimator(const Store& store, Volume volume, Optics optics, const RecordFlux& flux, unsigned batches,
-                          Radius radius, PeriodicSection section)
-        : store_(store), volume_(std::move(volume)), optics_(std::make_shared<const Optics>(std::move(optics))),
-          tables_(vertical_tables()), flux_(flux), batches_(batches), radius_(radius), section_(section) {
-        require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
-        section.require_radius(radius.value());
-        // Every photon's batch must have its sum: a batch index >= batches would be summed
-        // outside batch_sums (once per store, O(N), far below the store's own build).
-        unsigned highest = 0;
-        for (const auto& rec : store.records()) highest = std::max<unsigned>(highest, rec.batch());
-        require(highest < batches, "batches", batches,
-                "is fewer than the map's: a stored photon has batch index " + std::to_string(highest) +
-                    " (pass the map's TransportResult::batches)");
+    /// map: the photons and their normalisation, batches and periodic section
+    /// (map/photon_map.hpp); the collection radius must be < half the section width.
+    PathRadianceEstimator(const PhotonMap<Store>& map, Volume volume, Optics optics, Radius radius)
+        : map_(map), volume_(std::move(volume)), optics_(std::make_shared<const Optics>(std::move(optics))),
+          tables_(vertical_tables()), radius_(radius), section_(map.section_width()) {
+        section_.require_radius(radius.value());
     }
+    /// A temporary map would be gone before the estimator's first query.
+    PathRadianceEstimator(const PhotonMap<Store>&&, Volume, Optics, Radius) = delete;
 
     static constexpr unsigned max_batches = 256;  ///< as TransportSettings allows
 
     /// Adds the per-batch photon sums of one ray (light arriving at ray.origin travelling
-    /// opposite to ray.direction) to batch_sums (at least `batches` entries); returns the
-    /// photons touched.
-    std::uint64_t accumulate(const Ray& ray, std::span<double> batch_sums) const {
-        require(batch_sums.size() >= batches_, "batch_sums size", batch_sums.size(),
-                "must hold one sum per batch (the estimator's batches)");
-        return accumulate_ray(ray, batch_sums);
+    /// opposite to ray.direction) in band `band` to batch_sums (at least the map's batches
+    /// entries); returns the photons touched. A batch's sum times batch_scale() is that
+    /// batch's estimate of the ray's path radiance.
+    std::uint64_t accumulate(const Ray& ray, std::span<double> batch_sums, unsigned band = 0) const {
+        require(batch_sums.size() >= map_.batches(), "batch_sums size", batch_sums.size(),
+                "must hold one sum per batch (the map's batches)");
+        require(band < map_.bands(), "band", band, "is not among the map's bands (" + std::to_string(map_.bands()) + ")");
+        return accumulate_ray(ray, batch_sums, band);
     }
 
+    /// The flux of a record (at importance 1) times the batches: a batch's photon sum times
+    /// this is that batch's estimate (each batch alone stands for all the photons).
+    [[nodiscard]] double batch_scale() const { return map_.flux().per_record * map_.batches(); }
+    [[nodiscard]] const PhotonMap<Store>& map() const { return map_; }
+    [[nodiscard]] const Optics& optics() const { return *optics_; }
+    [[nodiscard]] Radius radius() const { return radius_; }
+
     /// Radiance averaged over a set of rays (e.g. a grid of parallel rays in a horizontally
-    /// homogeneous water body), with its batch standard error. Rays run in parallel; the
+    /// homogeneous water body) in the map's first band, with its batch standard error. Rays run in parallel; the
     /// sums are merged in ray order (bit-identical for any thread count).
     RadianceEstimate estimate(const std::vector<Ray>& rays, unsigned threads) const {
-        std::vector<std::vector<double>> per_ray(rays.size(), std::vector<double>(batches_, 0.0));
+        std::vector<std::vector<double>> per_ray(rays.size(), std::vector<double>(map_.batches(), 0.0));
         std::vector<std::uint64_t> touched(rays.size(), 0);
         parallel_for(rays.size(), threads, [&](std::size_t i) {
             // Sums on this thread's stack, copied out once: the rays' own vectors may share
             // a cache line with a neighbour's that another thread is adding to.
             std::array<double, max_batches> sums{};
-            touched[i] = accumulate_ray(rays[i], std::span(sums.data(), batches_));
-            std::copy_n(sums.begin(), batches_, per_ray[i].begin());
+            touched[i] = accumulate_ray(rays[i], std::span(sums.data(), map_.batches()), 0);
+            std::copy_n(sums.begin(), map_.batches(), per_ray[i].begin());
         });
-        std::vector<double> batch(batches_, 0.0);
+        std::vector<double> batch(map_.batches(), 0.0);
         RadianceEstimate out;
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            for (unsigned b = 0; b < batches_; ++b) batch[b] += per_ray[i][b];
+            for (unsigned b = 0; b < map_.batches(); ++b) batch[b] += per_ray[i][b];
             out.photons_touched += touched[i];
         }
-        const double scale = flux_.per_record * batches_ / static_cast<double>(rays.size());
+        const double scale = batch_scale() / static_cast<double>(rays.size());
         for (double& v : batch) v *= scale;
         out.radiance = batch_estimate(batch);
         out.rays = rays.size();
@@ -292,7 +315,7 @@ public:
     }
 
 private:
-    using Record = std::remove_cvref_t<std::ranges::range_reference_t<decltype(std::declval<const Store&>().records())>>;
+    using Record = typename PhotonMap<Store>::Record;
 
     /// Whether vertical rays take the coded path: records with a polar code, optics that
     /// tabulate their angular part.
@@ -312,27 +335,27 @@ private:
             return nullptr;
     }
 
-    /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays), else the
-    /// per-photon one. A ray of no finite length, or whose collection volume reaches below the
-    /// depth the map stored events to, is refused: its estimate would miss photons.
-    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums) const {
+    /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays, in a map of
+    /// one band), else the per-photon one. A ray of no finite length, or whose collection volume
+    /// reaches below the depth the map stored events to, is refused: its estimate would miss photons.
+    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums, unsigned band) const {
         require(std::isfinite(ray.t_max) && ray.t_max >= 0.0, "ray length (m)", ray.t_max, "must be finite and >= 0");
         const double deepest = std::max(ray.origin.z, ray.origin.z + ray.t_max * ray.direction.z) +
                                radius_.value() * sin_from_cos(ray.direction.z);
-        if (deepest > flux_.stored_to_depth)
+        if (deepest > map_.flux().stored_to_depth)
             reject("ray depth (m)", deepest,
-                   "lies below the depth the photon map stored events to (" + std::to_string(flux_.stored_to_depth) +
+                   "lies below the depth the photon map stored events to (" + std::to_string(map_.flux().stored_to_depth) +
                        " m): trace with a deeper TransportSettings::map_depth");
         if constexpr (coded_rays)
-            if (is_vertical(ray)) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
-        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
+            if (is_vertical(ray) && map_.bands() == 1) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
+        return sum_photons(ray, batch_sums, band, [&](const Record& rec, double t) {
             const double cos_psi = -glm::dot(rec.direction(), ray.direction);
             return optics_->in_scatter(rec.position().z, cos_psi, ray, t);
         });
     }
 
     /// The flux of a record at depth z relative to the map's per_record (1 / I(z)).
-    [[nodiscard]] double relative_flux(double z) const { return flux_.is_uniform() ? 1.0 : flux_.at(z) / flux_.per_record; }
+    [[nodiscard]] double relative_flux(double z) const { return map_.flux().is_uniform() ? 1.0 : map_.flux().at(z) / map_.flux().per_record; }
 
     /// The same sum on a vertical ray: cos psi from the photon's polar code through the table
     /// of the ray's direction (vertical_cosines; bit-identical to the per-photon formula).
@@ -340,14 +363,14 @@ private:
     std::uint64_t accumulate_coded(const Ray& ray, std::span<double> batch_sums, const Coded& coded) const {
 #if SECCHI_HAS_LANES
         if constexpr (requires(const std::uint8_t* k, const double* t, double* out) { coded.in_scatter_lanes(k, t, out); }) {
-            if (flux_.is_uniform()) {
-                CodedRuns<Coded> sum{store_.records(), coded, ray, batch_sums};
-                volume_.gather(store_, ray, radius_, section_, sum);
+            if (map_.flux().is_uniform()) {
+                CodedRuns<Coded> sum{map_.store().records(), coded, ray, batch_sums};
+                volume_.gather(map_.store(), ray, radius_, section_, sum);
                 return sum.touched;
             }
         }
 #endif
-        return sum_photons(ray, batch_sums, [&](const Record& rec, double t) {
+        return sum_photons(ray, batch_sums, 0, [&](const Record& rec, double t) {
             return coded.in_scatter(rec.position().z, PolarCode<Record>::of(rec), ray, t);
         });
     }
@@ -393,27 +416,27 @@ private:
 #endif
 
     /// batch_sums[batch] += weight * in_scatter(record, t) (times the record's relative flux)
-    /// over the photons the volume collects.
+    /// over the photons of band `band` the volume collects.
     template <class InScatter>
-    std::uint64_t sum_photons(const Ray& ray, std::span<double> batch_sums, InScatter&& in_scatter) const {
+    std::uint64_t sum_photons(const Ray& ray, std::span<double> batch_sums, unsigned band, InScatter&& in_scatter) const {
         std::uint64_t touched = 0;
-        const auto& records = store_.records();
-        volume_.gather(store_, ray, radius_, section_, [&](std::uint32_t index, double t, double weight) {
+        const auto& records = map_.store().records();
+        const bool one_band = map_.bands() == 1;
+        volume_.gather(map_.store(), ray, radius_, section_, [&](std::uint32_t index, double t, double weight) {
             const auto& rec = records[index];
-            const double w = flux_.is_uniform() ? weight : weight * relative_flux(rec.position().z);
+            if (!one_band && rec.band() != band) return;
+            const double w = map_.flux().is_uniform() ? weight : weight * relative_flux(rec.position().z);
             batch_sums[rec.batch()] += w * in_scatter(rec, t);
             ++touched;
         });
         return touched;
     }
 
-    const Store& store_;
+    const PhotonMap<Store>& map_;
     Volume volume_;
     /// On the heap, so that the tables' references to it hold in every copy of the estimator.
     std::shared_ptr<const Optics> optics_;
     std::shared_ptr<const VerticalTables> tables_;  ///< vertical_tables(), built once
-    RecordFlux flux_;
-    unsigned batches_;
     Radius radius_;
     PeriodicSection section_;
 };

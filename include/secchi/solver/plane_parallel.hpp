@@ -7,7 +7,7 @@
 // detectors tallied, the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
 // (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
-#include "secchi/estimate/path_radiance.hpp"
+#include "secchi/estimate/radiance.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
@@ -197,70 +197,46 @@ inline void eou_on_lambertian_bottom(const Bottom& bottom, std::vector<DepthResu
 }
 
 /// The length of the nadir ray from depth z: down to where the optics' transmittance falls to
-/// cfg.ray_transmittance (found by bisection on the monotone transmittance), or to the bottom.
+/// cfg.ray_transmittance, or to the bottom.
 template <RayOptics Optics>
 double nadir_ray_length(const Optics& optics, double z, const PlaneParallelConfig& cfg) {
     const double to_bottom = cfg.bottom.kind == BottomKind::none ? INFINITY : cfg.bottom.depth - z;
-    const Ray ray{{0.0, 0.0, z}, {0.0, 0.0, 1.0}, INFINITY};
-    const auto beyond = [&](double t) { return optics.transmittance(ray, t) <= cfg.ray_transmittance; };
-    double hi = 1.0;
-    while (!beyond(hi) && hi < to_bottom) {
-        hi *= 2.0;
-        require(hi < 1e7, "ray transmittance", cfg.ray_transmittance, "is not reached within 1e7 m: the water is too clear");
-    }
-    if (!beyond(hi)) return to_bottom;
-    double lo = 0.0;
-    for (int i = 0; i < 60 && hi - lo > 1e-9 * hi; ++i) (beyond(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
-    return std::min(hi, to_bottom);
+    return length_to_transmittance(optics, Ray{{0.0, 0.0, z}, {0.0, 0.0, 1.0}, to_bottom}, cfg.ray_transmittance);
 }
 
-/// Lu at every depth from a built store with the store's natural collection volume: the path
-/// radiance along each nadir ray (eq. 3.18), plus, where the ray ends on a Lambertian bottom,
-/// the bottom's radiance A Ed(bottom) / pi carried up by the ray's transmittance (eq. 3.18's
-/// boundary term; the same transmittance as the path radiance's).
-template <class Store, CollectionVolume Volume, RayOptics Optics, class Record>
-void estimate_lu(const Store& store, const Volume& volume, const Optics& optics, const PlaneParallelConfig& cfg,
-                 const TransportResult<Record>& tr, PlaneParallelResult& out) {
-    const PathRadianceEstimator est(store, volume, optics, tr.map_flux, tr.batches, Radius(cfg.radius),
-                                    PeriodicSection(cfg.section_width));
-    for (auto& d : out.depths) {
-        const double length = nadir_ray_length(optics, d.depth, cfg);
-        if (length > 0.0) {
-            const auto r = est.estimate(nadir_ray_grid(d.depth, length, cfg.ray_grid, cfg.section_width),
-                                        cfg.transport.threads);
-            d.lu = r.radiance;
-            d.photons_touched = r.photons_touched;
-        }
-        if (cfg.bottom.kind == BottomKind::lambertian && d.depth + length >= cfg.bottom.depth) {
-            const Ray ray{{0.0, 0.0, d.depth}, {0.0, 0.0, 1.0}, length};
-            const double att = optics.transmittance(ray, cfg.bottom.depth - d.depth) * cfg.bottom.albedo / pi;
-            d.lu.value += att * tr.bottom_ed.value;
-            d.lu.se = std::hypot(d.lu.se, att * tr.bottom_ed.se);
-        }
-    }
+/// Lu at every depth from a photon map with the store's natural collection volume: the whole
+/// radiance of K x K nadir rays (estimate/radiance.hpp: the path radiance down to where the
+/// transmittance falls to cfg.ray_transmittance or to the bottom, plus a Lambertian bottom's
+/// A Ed(bottom) / pi carried up by the ray's transmittance).
+template <class Store, CollectionVolume Volume, RayOptics Optics>
+void estimate_lu(const PhotonMap<Store>& map, const Volume& volume, const Optics& optics, const PlaneParallelConfig& cfg,
+                 PlaneParallelResult& out) {
+    const RadianceEstimator est(map, volume, optics, Radius(cfg.radius), RadianceSettings{cfg.ray_transmittance});
+    for (auto& d : out.depths)
+        d.lu = est.average(nadir_ray_grid(d.depth, INFINITY, cfg.ray_grid, cfg.section_width), 0, cfg.transport.threads,
+                           &d.photons_touched);
 }
 }  // namespace detail
 
-/// The plane-parallel problem in any Medium: first pass, map, and Lu with `optics` (the
-/// water's part of eq. 3.18 for the collection solid angle cfg.omega).
-/// cfg.attenuation and cfg.albedo are not used: the medium says everything.
-template <PhotonRecord Record = CompactRecord, Medium M, RayOptics Optics>
-PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optics, PlaneParallelConfig cfg) {
-    const auto t0 = std::chrono::steady_clock::now();
-    require(cfg.radius > 0 && 2.0 * cfg.radius * cfg.ray_grid <= cfg.section_width, "radius", cfg.radius,
-            "must be > 0 and at most section_width / (2 ray_grid) so the ray cylinders stay inside the section");
-    require(cfg.ray_transmittance > 0.0 && cfg.ray_transmittance < 1.0, "ray transmittance", cfg.ray_transmittance,
-            "must lie in (0, 1)");
-    // Infinitely deep water is traced without a cut-off (photons end by absorption and roulette);
-    // the map keeps the events down to the deepest Lu ray's end, plus the collection radius.
-    if (cfg.transport.map_photons > 0) {
-        double map_depth = 0.0;
-        for (double z : cfg.transport.depths) map_depth = std::max(map_depth, z + detail::nadir_ray_length(optics, z, cfg));
-        cfg.transport.map_depth = map_depth + cfg.radius;
-    }
+namespace detail {
+/// A first pass of a plane-parallel problem: the tracer's result (with the records), what it
+/// measured as a PlaneParallelResult (all but Lu and the store's figures), and the scene as the
+/// second pass sees it.
+template <class Record>
+struct FirstPass {
+    TransportResult<Record> transport;
+    PlaneParallelResult result;
+    MapScene scene;
+};
+
+template <PhotonRecord Record, Medium M>
+FirstPass<Record> run_first_pass(const M& medium, const PlaneParallelConfig& cfg,
+                                 std::chrono::steady_clock::time_point t0) {
     const Slab slab(cfg.section_width, cfg.bottom);
-    const AnySource source = detail::source_of(cfg);
-    auto tr = detail::first_pass<Record>(medium, slab, source, cfg);
+    const AnySource source = source_of(cfg);
+    auto tr = first_pass<Record>(medium, slab, source, cfg);
+    MapScene scene{slab, std::nullopt, SkyLight::of(source)};
+    if (cfg.slopes.upwind == 0.0 && cfg.slopes.crosswind == 0.0) scene.flat_surface = FlatSurface(water_index_of(medium, cfg));
 
     PlaneParallelResult out;
     out.above = tr.above;
@@ -271,33 +247,74 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
     out.ledger = tr.ledger;
     out.bottom_ed = tr.bottom_ed;
     out.flux_per_map_photon = tr.map_flux.per_record;
-    out.seconds_transport = detail::seconds_since(t0);
+    out.seconds_transport = seconds_since(t0);
     for (std::size_t i = 0; i < tr.depths.size(); ++i) out.depths.push_back({tr.depths[i], tr.irradiance[i], {}, 0});
-    detail::eou_on_lambertian_bottom(cfg.bottom, out.depths);
+    eou_on_lambertian_bottom(cfg.bottom, out.depths);
     if constexpr (std::is_same_v<Record, CompactRecord>)
         if (cfg.keep_map) out.map = tr.records;
+    return {std::move(tr), std::move(out), std::move(scene)};
+}
+}  // namespace detail
 
-    if (tr.map_photons > 0) {
+/// The plane-parallel problem in any Medium: first pass, map, and Lu with `optics` (the
+/// water's part of eq. 3.18 for the collection solid angle cfg.omega).
+/// cfg.attenuation and cfg.albedo are not used: the medium says everything.
+template <PhotonRecord Record = CompactRecord, Medium M, RayOptics Optics>
+PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optics, PlaneParallelConfig cfg) {
+    const auto t0 = std::chrono::steady_clock::now();
+    require(cfg.radius > 0 && cfg.radius < 0.5 * cfg.section_width, "radius", cfg.radius,
+            "must be > 0 and < section_width / 2 (the collection volume's images come from the neighbouring sections)");
+    require(cfg.ray_transmittance > 0.0 && cfg.ray_transmittance < 1.0, "ray transmittance", cfg.ray_transmittance,
+            "must lie in (0, 1)");
+    // Infinitely deep water is traced without a cut-off (photons end by absorption and roulette);
+    // the map keeps the events down to the deepest Lu ray's end, plus the collection radius.
+    if (cfg.transport.map_photons > 0) {
+        double map_depth = 0.0;
+        for (double z : cfg.transport.depths) map_depth = std::max(map_depth, z + detail::nadir_ray_length(optics, z, cfg));
+        cfg.transport.map_depth = map_depth + cfg.radius;
+    }
+    auto first = detail::run_first_pass<Record>(medium, cfg, t0);
+    PlaneParallelResult& out = first.result;
+    if (first.transport.map_photons > 0) {
         const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth);
         const VoiCylinder cylinder(0.0, cfg.bottom.depth);
-        auto run = [&](const auto& store, const auto& volume) {
-            out.store_bytes = store.memory_bytes();
+        auto run = [&]<class Store>(std::type_identity<Store>, const auto& volume, auto... store_args) {
+            const auto map = PhotonMap<Store>::from_first_pass(std::move(first.transport), first.scene, store_args...);
+            out.store_bytes = map.store().memory_bytes();
             out.seconds_build = detail::seconds_since(t0) - out.seconds_transport;
-            detail::estimate_lu(store, volume, optics, cfg, tr, out);
+            detail::estimate_lu(map, volume, optics, cfg, out);
         };
         switch (cfg.store) {
-            case StoreKind::kdtree: run(KdTreeStore<Record>(std::move(tr.records)), spheres); break;
-            case StoreKind::nanoflann: run(NanoflannStore<Record>(std::move(tr.records)), spheres); break;
-            case StoreKind::voi: run(VoiOctreeStore<Record>(std::move(tr.records)), cylinder); break;
-            case StoreKind::voi_grid:
-                run(VoiGridStore<Record>(std::move(tr.records), Radius(cfg.radius)), cylinder);
-                break;
-            case StoreKind::brute_force: run(BruteForceStore<Record>(std::move(tr.records)), cylinder); break;
+            case StoreKind::kdtree: run(std::type_identity<KdTreeStore<Record>>{}, spheres); break;
+            case StoreKind::nanoflann: run(std::type_identity<NanoflannStore<Record>>{}, spheres); break;
+            case StoreKind::voi: run(std::type_identity<VoiOctreeStore<Record>>{}, cylinder); break;
+            case StoreKind::voi_grid: run(std::type_identity<VoiGridStore<Record>>{}, cylinder, Radius(cfg.radius)); break;
+            case StoreKind::brute_force: run(std::type_identity<BruteForceStore<Record>>{}, cylinder); break;
         }
         out.seconds_collect = detail::seconds_since(t0) - out.seconds_transport - out.seconds_build;
     }
     out.seconds = detail::seconds_since(t0);
-    return out;
+    return std::move(out);
+}
+
+/// A plane-parallel problem's first pass and its photon map, for a caller's own second pass
+/// (estimate/radiance.hpp: radiance along any ray).
+template <class Store>
+struct MappedWater {
+    PlaneParallelResult first_pass;  ///< irradiances, ledger, above-surface values (no Lu)
+    PhotonMap<Store> map;
+};
+
+/// Traces cfg's first pass in `medium` and builds its photon map into a Store (e.g.
+/// VoiGridStore<CompactRecord>, whose constructor's arguments after the records are
+/// store_args). Events are stored down to cfg.transport.map_depth: set it below the deepest
+/// point a query's collection volume reaches (deeper queries are refused). cfg.store,
+/// cfg.radius and the Lu settings are not used.
+template <class Store, Medium M, class... StoreArgs>
+MappedWater<Store> trace_photon_map(const M& medium, const PlaneParallelConfig& cfg, StoreArgs&&... store_args) {
+    auto first = detail::run_first_pass<typename PhotonMap<Store>::Record>(medium, cfg, std::chrono::steady_clock::now());
+    return {std::move(first.result), PhotonMap<Store>::from_first_pass(std::move(first.transport), std::move(first.scene),
+                                                                      std::forward<StoreArgs>(store_args)...)};
 }
 
 /// Homogeneous water of attenuation cfg.attenuation and albedo cfg.albedo with one phase function.
