@@ -14,7 +14,8 @@
 //   error <= max(s/x, 4 SE)  (4 SE: ~60 checks must not fail by chance).
 #include "kirk.hpp"
 #include "m93_table5.hpp"
-#include "photon_map_image.hpp"
+#include "secchi/io/exr.hpp"
+#include "secchi/map/projection.hpp"
 #include "problem3.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/io/json_writer.hpp"
@@ -390,8 +391,7 @@ std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool
     if (p.source == SourceKind::atmosphere)
         for (auto& e : parametric_sky_runs(p, cl, cfg, r)) out.push_back(std::move(e));
     if (!r.map.empty() && !exr.empty()) {
-        conformance::write_exr(
-            conformance::project_photon_map(r.map, cfg.section_width, 12.0, r.flux_per_map_photon), exr);
+        write_exr(project_photon_map(r.map, RecordFlux::uniform(r.flux_per_map_photon), cfg.section_width, 12.0), exr);
         std::printf("   photon map image: %s\n", exr.c_str());
     }
     return out;

@@ -1,11 +1,12 @@
 // Quick start (shown in the README): compose a medium from policies, trace photons from the
-// sun, build a VOI photon map and estimate the nadir radiance at 5 m from it.
-#include <secchi/estimate/path_radiance.hpp>
+// sun, build a VOI photon map and estimate radiance along rays from it.
+#include <secchi/estimate/radiance.hpp>
 #include <secchi/map/photon_map.hpp>
 #include <secchi/map/voi_octree.hpp>
 #include <secchi/optics/phase/cone_average.hpp>
 #include <secchi/optics/phase/petzold.hpp>
 #include <secchi/transport/tracer.hpp>
+#include <cmath>
 #include <cstdio>
 
 int main() {
@@ -30,13 +31,14 @@ int main() {
                         MapScene{slab, surface, SkyLight::of(SunAndSky(sun))}, first.bottom_ed);
     const ConeAveragedPhase cone(water.phase(), /*omega=*/0.005);   // its forward peak travels on along the ray
     const HomogeneousRayOptics optics{cone, water.attenuation(), water.scattering()};  // pbar_omega(psi) exp(-c' t), eq. 3.18
-    const PathRadianceEstimator lu(map, VoiCylinder{}, optics, Radius(0.05));
-    const Ray down{{0.5, 0.5, 5.0}, {0.0, 0.0, 1.0}, 5.0};               // from 5 m to the bottom
-    const auto in_water = lu.estimate(nadir_ray_grid(down.origin.z, down.t_max, /*k=*/10, slab.width()), 2);
-    // plus the bottom's reflected radiance A Ed(bottom) / pi, carried up the 5 m by the ray's transmittance
-    const double from_bottom = 0.3 * map.bottom_ed().value / pi * optics.transmittance(down, down.t_max);
+    const RadianceEstimator est(map, VoiCylinder(0.0, 10.0), optics, Radius(0.05));
+    // The whole radiance along a ray (eq. 3.18): light scattered into it on the way, plus what
+    // it sees where it ends (here the bottom's reflected light; looking up, the surface).
+    const Estimate lu = est.average(nadir_ray_grid(/*z=*/5.0, INFINITY, /*k=*/10, slab.width()), /*band=*/0, 2);
+    const Ray up{{0.5, 0.5, 5.0}, {std::sin(40 * deg), 0.0, -std::cos(40 * deg)}, INFINITY};  // 40 deg from the zenith
 
     std::printf("Ed(5 m) = %.4e +- %.1e W m^-2 nm^-1\n", first.irradiance[1][Ed].value, first.irradiance[1][Ed].se);
-    std::printf("Lu(5 m) = %.4e +- %.1e W m^-2 sr^-1 nm^-1 (%.4e of it from the bottom)\n",
-                in_water.radiance.value + from_bottom, in_water.radiance.se, from_bottom);
+    std::printf("Lu(5 m) = %.4e +- %.1e W m^-2 sr^-1 nm^-1\n", lu.value, lu.se);
+    std::printf("L(5 m, looking up 40 deg from the zenith) = %.4e +- %.1e W m^-2 sr^-1 nm^-1\n", est.radiance(up).value,
+                est.radiance(up).se);
 }

@@ -1,13 +1,15 @@
 // Images of the radiance: the pinhole camera's rays, the rendered image against the whole
 // radiance of the same rays (estimate/render.hpp), the latitude-longitude distribution's
-// directions (estimate/radiance_distribution.hpp), the OpenEXR round trip (io/exr.hpp) and
-// the PNG preview's bytes (io/png_preview.hpp).
+// directions (estimate/radiance_distribution.hpp), the photon map's projection on a vertical
+// plane (map/projection.hpp), the OpenEXR round trip (io/exr.hpp) and the PNG preview's bytes
+// (io/png_preview.hpp).
 #include <catch2/catch.hpp>
 #include "secchi/core/rng.hpp"
 #include "secchi/estimate/radiance_distribution.hpp"
 #include "secchi/estimate/render.hpp"
 #include "secchi/io/exr.hpp"
 #include "secchi/io/png_preview.hpp"
+#include "secchi/map/projection.hpp"
 #include "secchi/map/voi_grid.hpp"
 #include "secchi/optics/phase/cone_average.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
@@ -15,6 +17,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <numeric>
 #include <vector>
 
 using namespace secchi;
@@ -124,4 +127,20 @@ TEST_CASE("An image survives the OpenEXR round trip; the PNG preview is a valid 
     CHECK(std::string(bytes.end() - 8, bytes.end() - 4) == "IEND");
     std::remove("test_images_roundtrip.exr");
     std::remove("test_images_preview.png");
+}
+
+TEST_CASE("The photon map projected on a vertical plane: flux density per voxel, the flux conserved") {
+    std::vector<CompactRecord> records;
+    for (int i = 0; i < 1000; ++i)  // all in one column (x in the first pixel), spread in depth
+        records.push_back(CompactRecord::make({0.001, 0.5, 12.0 * (i + 0.5) / 1000}, {0, 0, 1}, 0, 0));
+    const double flux = 2e-3;
+    const Image img = project_photon_map(records, RecordFlux::uniform(flux), 1.0, 12.0, 64, 128);
+    const std::vector<float>& y = img.channel("Y");
+    const double voxel = (1.0 / 64) * (12.0 / 128) * 1.0;
+    CHECK(std::accumulate(y.begin(), y.end(), 0.0) * voxel == Approx(1000 * flux).epsilon(1e-5));
+    CHECK(y[1] == 0.0f);  // nothing outside the first column
+    // A map's own projection: its records, flux and section.
+    const PhotonMap map(VoiGridStore<CompactRecord>(records, Radius(0.1)), RecordFlux::uniform(flux), 1,
+                        MapScene::open_water(1.0));
+    CHECK(project_photon_map(map, 12.0, 64, 128).channel("Y") == y);
 }

@@ -153,13 +153,14 @@ std::vector<CompactRecord> uniform_map(double width, double depth, std::size_t n
     return records;
 }
 
-/// A ray at theta_deg from the vertical (down or up), random azimuth, origin anywhere in the
-/// section, length up to `longest`, centred on depth `middle`.
+/// A ray at theta_deg from the vertical (down or up), random azimuth, origin anywhere within
+/// five section widths of the section, length up to `longest`, centred on depth `middle`.
 Ray random_ray(PhotonRng& rng, double theta_deg, double width, double longest, double middle) {
     vec3 u = direction_at(theta_deg, 2.0 * pi * rng.uniform());
     if (rng.uniform() < 0.5) u.z = -u.z;
     const double length = longest * (0.05 + 0.95 * rng.uniform());
-    return {{width * rng.uniform(), width * rng.uniform(), middle - 0.5 * length * u.z}, u, length};
+    return {{width * (10.0 * rng.uniform() - 4.5), width * (10.0 * rng.uniform() - 4.5), middle - 0.5 * length * u.z}, u,
+            length};
 }
 }  // namespace
 
