@@ -40,34 +40,6 @@ bb_over_b, mean_cosine (of the mixture phase function; nan where b = 0).
 Errors (bad options, bad material files, wavelengths outside a model's table) exit with 2.
 )";
 
-/// One number of a range option; input_error naming the option otherwise.
-double range_number(const std::string& option, const std::string& text) {
-    double v = 0.0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (text.empty() || ec != std::errc{} || end != text.data() + text.size() || !std::isfinite(v))
-        secchi::reject("--" + option, text, "is not a number (expected START:STOP:STEP or one number)");
-    return v;
-}
-
-/// START:STOP:STEP (STOP included when the steps land on it) or a single value.
-std::vector<double> parse_range(const std::string& option, const std::string& text) {
-    std::vector<std::string> parts(1);
-    for (char ch : text) {
-        if (ch == ':') parts.emplace_back();
-        else parts.back().push_back(ch);
-    }
-    if (parts.size() == 1) return {range_number(option, parts[0])};
-    if (parts.size() != 3) secchi::reject("--" + option, text, "expected START:STOP:STEP or one number");
-    const double start = range_number(option, parts[0]), stop = range_number(option, parts[1]),
-                 step = range_number(option, parts[2]);
-    if (!(step > 0.0) || stop < start) secchi::reject("--" + option, text, "needs STEP > 0 and STOP >= START");
-    const double n = std::floor((stop - start) / step + 1e-9);
-    if (n > 1e6) secchi::reject("--" + option, text, "has more than a million values");
-    std::vector<double> out;
-    for (int k = 0; k <= static_cast<int>(n); ++k) out.push_back(start + k * step);
-    return out;
-}
-
 /// The phase-function moments of each scattering component, computed once.
 template <class Model>
 std::vector<secchi::PhaseMoments> component_moments(const Model& m) {
@@ -108,8 +80,8 @@ void write_csv(std::ostream& os, const Model& m, const std::vector<double>& wave
 void run(const secchi::CommandLine& cl, std::ostream& os) {
     if (cl.has("material") == cl.has("problem3"))
         secchi::reject("medium", "(options)", "give exactly one of --material FILE and --problem3");
-    const auto wavelengths = parse_range("wavelengths", cl.text("wavelengths", "400:700:10"));
-    const auto depths = parse_range("depths", cl.text("depths", "0:60:5"));
+    const auto wavelengths = cl.range("wavelengths", "400:700:10");
+    const auto depths = cl.range("depths", "0:60:5");
     if (cl.has("problem3") && !cl.has("material-entry"))
         return write_csv(os, secchi::conformance::problem3_model(), wavelengths, depths);
     const auto model = secchi::io::read_iop_model_from_options(cl);

@@ -13,34 +13,42 @@
 //
 // The object's radiance is the host's choice; here Lambertian, albedo A:
 //     L_obj = A / pi (E_sun max(0, n . s) V + E_amb(z, n))
-// with E_sun the sun's E_perp at the point from est.direct_sun(), s the direction towards the
-// sun there, V = 0 where the host's own shadow ray towards the sun meets another of its
-// objects before the surface, and E_amb the diffuse light from secchi's radiance distribution:
-// the downwelling plane irradiance without the direct beam (Ed - E_sun mu_sun) on a face
-// looking up, the upwelling Eu on a face looking down, interpolated in between by the face's
-// vertical normal component; tabulated once per metre of depth (irradiances_from_map) and
-// interpolated linearly in depth.
+// with E_sun the sun's E_perp at the point from est.direct_sun() (refracted at the surface and
+// attenuated along the beam), s the direction towards the sun there, V = 0 where the host's
+// own shadow ray towards the sun meets another of its objects before the surface, and E_amb
+// the diffuse light from secchi's radiance distribution: the downwelling plane irradiance
+// without the direct beam (Ed - E_sun mu_sun) on a face looking up, the upwelling Eu on a face
+// looking down, weighted by (1 -+ n_z) / 2 in between; tabulated by irradiances_from_map at
+// depths at most 1.5 m apart over the objects' depth range, linear in depth between them.
+// The ray's transmittance is that of the estimator's optics, exp(-c' t): the scattering
+// within the collection cone counts as unscattered (c' = c - b f), consistently with the path
+// radiance, which leaves that light out. The sun's disk (a delta in direction) is not part of
+// radiance(); this host does not draw it.
 //
-// Units: radiance in W m^-2 sr^-1 nm^-1 per unit solar E_perp (the sun's irradiance normal to
-// its beam above the surface, W m^-2 nm^-1): multiply by the sun's spectral irradiance at the
-// band's wavelength for absolute values. Irradiances in the same units times sr.
+// Units: radiances in W m^-2 sr^-1 nm^-1 and irradiances in W m^-2 nm^-1 for a sun of
+// E_perp = 1 W m^-2 nm^-1 above the surface (E_perp: its irradiance on a plane normal to the
+// beam), i.e. per unit solar E_perp; everything scales linearly with the sun's and sky's
+// actual spectral irradiance at the band's wavelength.
 //
 // What is approximate: the objects do not change the photon map. Their shadows darken only
 // other objects (through the host's shadow rays), never the water's own light field, the
 // bottom or the light scattered towards the camera, and light they reflect is not scattered
-// again by the water. E_amb ignores occlusion of the ambient light by other objects and is
-// exact only for faces looking straight up or down. The photon-map estimates carry statistical
-// noise (the L.se channel: batch scatter of the map's photons, and the ambient table's SE).
+// again by the water. E_amb ignores the occlusion of the ambient light by other objects and is
+// exact only for faces looking straight up or down. The photon-map estimates are statistical
+// (the L.se channel: the scatter of the map's photon batches, and the ambient table's SE), and
+// the map is a periodic section 1 m wide: a long ray gathers the same stored photons again in
+// every section it crosses, so neighbouring pixels' noise is correlated and shows the lattice
+// as faint streaks towards its vanishing points.
 //
-// Threads: the estimator is const after construction and every query (radiance, add,
-// transmittance, direct_sun, irradiances_from_map) may run on any number of threads at once;
-// the host renders rows on its own std::threads. Each pixel is computed alone without random
+// Threads: the estimator is const after construction and its queries (radiance, add,
+// transmittance, direct_sun; irradiances_from_map) may run on any number of threads at once;
+// the host renders rows on its own std::threads. Each pixel is computed alone, without random
 // numbers, so the image is the same for any thread count.
 //
 // Lifetimes: the estimator refers to the photon map, which must outlive it (here both live
-// until main returns); constructing an estimator from a temporary map does not compile.
+// until main returns); an estimator constructed from a temporary map does not compile.
 //
-// Bands: maps hold one band today; every query here passes band 0.
+// Bands: the map traced here holds one band, and every query is for band 0.
 //
 // Coordinates: the host's world is secchi's (metres, z positive down, the surface at z = 0,
 // the bottom at z = 8 m). A host with another frame (y up, z up) converts at the boundary,
@@ -184,21 +192,22 @@ struct Scene {
     }
 };
 
-/// A diver swimming across the view at about 3 m (a chain of spheres), a buoy, a rock and a
-/// crate on the bottom (8 m). The sun's beam in the water travels towards -x and down, so the
-/// diver's shadow falls on the crate.
+/// A diver swimming across the view at about 4.6 m (a chain of spheres), a buoy at 2.3-3.3 m,
+/// a rock and a crate on the bottom (8 m). The sun's beam in the water travels towards -x and
+/// down, 0.40 m across per metre down (the sun at 30 deg, refracted to 21.9 deg), so the
+/// diver's shadow falls on the crate's top.
 inline Scene demo_scene() {
     Scene s;
     s.spheres = {
-        {{0.25, 6.8, 3.15}, 0.20, 0.45},  // diver: head
-        {{0.75, 6.8, 3.25}, 0.34, 0.30},  //        torso
-        {{1.30, 6.8, 3.30}, 0.27, 0.30},  //        hips
-        {{1.75, 6.8, 3.35}, 0.19, 0.30},  //        legs
-        {{2.10, 6.8, 3.40}, 0.15, 0.60},  //        fins
-        {{-2.6, 8.0, 4.6}, 0.55, 0.80},   // buoy
-        {{2.3, 5.6, 7.15}, 0.85, 0.25},   // rock, resting on the bottom
+        {{-0.85, 5.4, 4.50}, 0.20, 0.50},  // diver: head
+        {{-0.35, 5.4, 4.60}, 0.34, 0.45},  //        torso
+        {{0.20, 5.4, 4.65}, 0.27, 0.45},   //        hips
+        {{0.65, 5.4, 4.70}, 0.19, 0.45},   //        legs
+        {{1.00, 5.4, 4.75}, 0.15, 0.70},   //        fins
+        {{-2.6, 6.5, 2.8}, 0.50, 0.80},    // buoy
+        {{2.3, 5.2, 7.35}, 0.65, 0.25},    // rock, resting on the bottom
     };
-    s.boxes = {{{-1.5, 6.0, 6.9}, {0.3, 7.7, 8.0}, 0.55}};  // crate on the bottom
+    s.boxes = {{{-2.0, 5.2, 7.0}, {-0.6, 6.6, 8.0}, 0.55}};  // crate on the bottom
     return s;
 }
 
@@ -259,12 +268,15 @@ void for_each_row(int rows, unsigned threads, Row&& row) {
 /// up) and Eu (on a face looking down), W m^-2 nm^-1 per unit solar E_perp, with their SE.
 class AmbientTable {
 public:
+    /// Depths from top to bottom, at most max_step apart.
     template <class Estimator>
-    AmbientTable(const Estimator& est, double top, double bottom, double step, unsigned threads)
-        : top_(top), step_(step) {
-        // 12 x 8 direction cells per hemisphere, 4 replicate groups: 768 rays per depth.
-        const secchi::DirectionSampling sampling{12, 8, 4, 1};
-        for (double z = top; z < bottom + 0.5 * step; z += step) {
+    AmbientTable(const Estimator& est, double top, double bottom, double max_step, unsigned threads) : top_(top) {
+        const int intervals = std::max(1, static_cast<int>(std::ceil((bottom - top) / max_step)));
+        step_ = (bottom - top) / intervals;
+        // 8 x 8 direction cells per hemisphere, 4 replicate groups: 512 rays per depth.
+        const secchi::DirectionSampling sampling{8, 8, 4, 1};
+        for (int k = 0; k <= intervals; ++k) {
+            const double z = k == intervals ? bottom : top + k * step_;
             const secchi::MapIrradiances e = secchi::irradiances_from_map(est, z, sampling, threads);
             const secchi::Estimate ed = e.irradiance[secchi::Ed], eu = e.irradiance[secchi::Eu];
             down_.push_back({ed.value - e.direct[secchi::Ed], ed.se});
@@ -291,7 +303,7 @@ public:
     [[nodiscard]] const std::vector<secchi::Estimate>& eu() const { return up_; }
 
 private:
-    double top_, step_;
+    double top_, step_ = 0.0;
     std::vector<double> depths_;
     std::vector<secchi::Estimate> down_, up_;
 };
@@ -358,13 +370,13 @@ Pixel trace_pixel(const Scene& scene, const Estimator& est, const AmbientTable& 
 
 namespace {
 constexpr const char* usage = R"(usage: embed_host [options]
-  --map-photons N   photons whose scattering events are stored (default 1e6)
-  --radius R        collection radius in m (default 0.04)
-  --size N          image height in pixels (default 200; the image is 3:2)
+  --map-photons N   photons whose scattering events are stored (default 5e5)
+  --radius R        collection radius in m, below 0.5 (default 0.05)
+  --size N          image height in pixels, >= 2 (default 128; the image is 3:2)
   --threads N       (default 2)
-  --out PREFIX      output files PREFIX.exr and PREFIX.png (default "embed_host")
-A host ray tracer's spheres and crate in secchi's water; checks the embedding contract on
-the image it renders and exits 1 if a check fails.
+  --out PREFIX      writes PREFIX.exr and PREFIX.png (default "embed_host")
+A host ray tracer's own objects in secchi's water. It checks the embedding contract on the
+image it renders and exits with status 1 if a check fails.
 )";
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -376,49 +388,55 @@ int main(int argc, char** argv) {
     using namespace secchi;
     return run_program(argc, argv, "embed_host", usage, [&] {
         const CommandLine cl(argc, argv, {"map-photons", "radius", "size", "threads", "out"});
-        const auto threads = static_cast<unsigned>(std::max<std::uint64_t>(1, cl.count("threads", 2)));
-        const int height = static_cast<int>(cl.count("size", 200));
-        const int width = height * 3 / 2;
-        require(height >= 2 && width >= 2, "--size", height, "must be >= 2");
+        const std::uint64_t thread_count = cl.count("threads", 2), size = cl.count("size", 128);
+        require(thread_count >= 1 && thread_count <= 1024, "--threads", thread_count, "must be in [1, 1024]");
+        require(size >= 2 && size <= 8192, "--size", size, "must be in [2, 8192]");
+        const auto threads = static_cast<unsigned>(thread_count);
+        const int height = static_cast<int>(size), width = height * 3 / 2;
         const std::string out = cl.text("out", "embed_host");
         const auto t0 = std::chrono::steady_clock::now();
 
-        // ---- secchi: the water and its photon map, built once --------------------------------
-        // Clear coastal water (a = 0.08, b = 0.22 /m: c = 0.3 /m, w0 = 0.73) with Petzold's
-        // particle phase function over a Lambertian bottom of albedo 0.25 at 8 m; flat surface
-        // (n = 1.34), sun at 30 deg zenith (E_perp = 1), uniform sky of plane irradiance 0.2.
+        // ---- secchi: the water and its photon map, built once ---------------------------------
+        // Clear coastal water (a = 0.06, b = 0.12 /m: c = 0.18 /m, w0 = 0.67) with Petzold's
+        // particle phase function, over a Lambertian bottom of albedo 0.25 at 8 m; flat surface
+        // (n = 1.34), the sun at 30 deg from the zenith (E_perp = 1) and a uniform sky of plane
+        // irradiance 0.2. The map is a periodic section 1 m wide (PlaneParallelConfig's default):
+        // the host's coordinates may lie anywhere, the water is horizontally homogeneous.
         const double bottom_depth = 8.0;
-        const auto water = HomogeneousWater<TabulatedPhase>(0.08, 0.22, petzold_m93());
+        const auto water = HomogeneousWater<TabulatedPhase>(0.06, 0.12, petzold_m93());
         PlaneParallelConfig cfg;
         cfg.sun_zenith_deg = 30.0;
         cfg.sky_irradiance = 0.2;
         cfg.bottom = Bottom::lambertian_at(bottom_depth, 0.25);
-        cfg.transport.photons = cfg.transport.map_photons = cl.count("map-photons", 1'000'000);
+        cfg.transport.photons = cfg.transport.map_photons = cl.count("map-photons", 500'000);
         cfg.transport.threads = threads;
-        const Radius radius(cl.number("radius", 0.04));
-        // The map owns the photons; the estimator below refers to it, so it lives as long.
+        const Radius radius(cl.number("radius", 0.05));
+        require(radius.value() < 0.5 * cfg.section_width, "--radius", radius.value(), "must be < 0.5 m (half the map's section)");
+        // The map owns the photons and must outlive the estimator, which refers to it.
         const auto mapped = trace_photon_map<VoiGridStore<CompactRecord>>(water, cfg, radius);
+        // The collection cone of 0.005 sr: the scattering within it counts as unscattered, so
+        // the ray's transmittance is exp(-c' t) with c' = c - b f, f Petzold's share in the cone.
         const HomogeneousRayOptics optics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(), water.scattering());
         const RadianceEstimator est(mapped.map, VoiCylinder(0.0, bottom_depth), optics, radius);
         std::printf("map: %zu scattering events stored in %.1f s\n", mapped.map.store().records().size(), seconds_since(t0));
 
-        // ---- the host's scene, and the ambient light secchi gives it --------------------------
+        // ---- the host's scene, and the ambient light secchi gives it ---------------------------
         const host::Scene scene = host::demo_scene();
         const auto [top, bottom] = scene.depth_range();
-        require(top > 0.0 && bottom <= bottom_depth, "host objects' depth range (m)", top,
-                "must lie in the water, between the surface and the bottom");
+        require(top > 0.0 && bottom <= bottom_depth, "host objects' top depth (m)", top,
+                "must lie in the water: the objects between the surface and the bottom");
         const auto t1 = std::chrono::steady_clock::now();
-        const host::AmbientTable ambient(est, std::floor(top), std::ceil(bottom), 1.0, threads);
-        std::printf("ambient table: %zu depths in %.1f s\n", ambient.depths().size(), seconds_since(t1));
-        std::printf("  depth (m)  Ed diffuse      Eu  (W m^-2 nm^-1 per unit E_perp)\n");
+        const host::AmbientTable ambient(est, top, bottom, 1.5, threads);
+        std::printf("ambient light: %zu depths in %.1f s\n", ambient.depths().size(), seconds_since(t1));
+        std::printf("  depth (m)   Ed diffuse         Eu   (W m^-2 nm^-1 per unit E_perp)\n");
         for (std::size_t i = 0; i < ambient.depths().size(); ++i)
-            std::printf("  %6.1f  %8.4f +- %.4f  %8.4f +- %.4f\n", ambient.depths()[i], ambient.ed_diffuse()[i].value,
+            std::printf("  %6.2f   %.4f +- %.4f  %.4f +- %.4f\n", ambient.depths()[i], ambient.ed_diffuse()[i].value,
                         ambient.ed_diffuse()[i].se, ambient.eu()[i].value, ambient.eu()[i].se);
 
-        // ---- the host's render: rows on the host's own threads --------------------------------
-        // 5.5 m deep, looking along +y and 10 deg up: the sun's light comes from the left (+x);
-        // the top of the image reaches Snell's window (41 deg above the horizontal).
-        const host::Camera camera({0.0, 0.0, 5.5}, {0.0, std::cos(10.0 * deg), -std::sin(10.0 * deg)}, 76.0, width, height);
+        // ---- the host's render: rows on the host's own threads ---------------------------------
+        // 5 m deep, looking along +y and 6 deg up, 76 deg vertical field of view: the sun shines
+        // from the image's left (+x); Snell's window (above 41.4 deg of elevation) tops the image.
+        const host::Camera camera({0.0, 0.0, 5.0}, {0.0, std::cos(6.0 * deg), -std::sin(6.0 * deg)}, 76.0, width, height);
         Image image(width, height);
         std::vector<float>& value = image.add_channel("L");
         std::vector<float>& se = image.add_channel("L.se");
@@ -443,67 +461,83 @@ int main(int argc, char** argv) {
         const double render_seconds = seconds_since(t2);
         write_exr(image, out + ".exr");
         const double white = write_png_preview(image, "L", out + ".png");
-        std::printf("image: %d x %d in %.1f s, %d pixels on objects (%d in the host's shadows); white = %.4g\n", width,
-                    height, render_seconds, object_pixels.load(), shadowed_pixels.load(), white);
-        std::printf("wrote %s.exr (L, L.se, R, G, B; W m^-2 sr^-1 nm^-1 per unit E_perp) and %s.png\n", out.c_str(),
-                    out.c_str());
+        std::printf("image: %d x %d in %.1f s; %d pixels see an object, %d of them in the host's shadows\n", width, height,
+                    render_seconds, object_pixels.load(), shadowed_pixels.load());
+        std::printf("wrote %s.exr (L, L.se, R, G, B in W m^-2 sr^-1 nm^-1 per unit E_perp) and %s.png (white = %.4g)\n",
+                    out.c_str(), out.c_str(), white);
 
-        // ---- self-check: the embedding contract on the rendered image -------------------------
+        // ---- self-check: the embedding contract, on the rendered image --------------------------
         int failures = 0;
         const auto check = [&](bool ok, const char* what) {
-            std::printf("check %-62s %s\n", what, ok ? "ok" : "FAILED");
+            std::printf("check: %-72s %s\n", what, ok ? "ok" : "FAILED");
             failures += !ok;
         };
         bool finite = true;
         for (std::size_t i = 0; i < value.size(); ++i)
             finite = finite && std::isfinite(value[i]) && value[i] >= 0.0f && std::isfinite(se[i]) && se[i] >= 0.0f;
-        check(finite, "every pixel finite and >= 0, with a finite SE");
-        check(object_pixels > 0 && shadowed_pixels > 0 && shadowed_pixels < object_pixels,
-              "objects in view, some of them in the host's shadows");
+        check(finite, "every pixel's radiance and SE finite and >= 0");
 
-        // An open-water pixel (the first pixel, in row order, that sees no object) is exactly
-        // est.radiance() of its unbounded ray.
-        // A sunlit object pixel (the first in row order) is path(t) + T(t) times the object's radiance.
+        // The host's shadow ray runs towards the sun, against the beam's direction: the crate's
+        // top beneath the diver's torso along the beam is in shadow, its far corner is lit.
+        {
+            const host::Sphere& torso = scene.spheres[1];
+            const host::Box& crate = scene.boxes[0];
+            const host::Vec beam = host::from_secchi(est.direct_sun(host::to_secchi(torso.centre)).direction);
+            const double s = (crate.lo.z - torso.centre.z) / beam.z;
+            const host::Hit under{0.0, torso.centre + s * beam, {0.0, 0.0, -1.0}, crate.albedo};
+            const host::Hit corner{0.0, {crate.lo.x + 0.1, crate.hi.y - 0.1, crate.lo.z}, {0.0, 0.0, -1.0}, crate.albedo};
+            const host::ObjectRadiance in_shadow = host::shade(scene, est, ambient, under);
+            const host::ObjectRadiance in_sun = host::shade(scene, est, ambient, corner);
+            check(in_shadow.shadowed && in_shadow.sun == 0.0 && !in_sun.shadowed && in_sun.sun > 0.0,
+                  "crate top: shadowed beneath the diver along the sun's beam, lit beyond");
+        }
+
+        // The first pixel in row order that sees open water, and the first that sees a sunlit object.
         int open_x = -1, open_y = -1, hit_x = -1, hit_y = -1;
         for (std::size_t i = 0; i < kind.size(); ++i) {
             const int x = static_cast<int>(i % width), y = static_cast<int>(i / width);
             if (kind[i] == 0 && open_x < 0) open_x = x, open_y = y;
             if (kind[i] == 1 && hit_x < 0) hit_x = x, hit_y = y;
         }
-        check(open_x >= 0 && hit_x >= 0, "an open-water pixel and a sunlit object pixel exist");
+        check(open_x >= 0 && hit_x >= 0, "the image shows open water and a sunlit object");
         if (open_x >= 0) {
-            const Ray ray{to_secchi(camera.position()), to_secchi(camera.direction(open_x, open_y)), INFINITY};
+            // Open water: the pixel is est.radiance() of its unbounded ray, bit for bit.
+            const Ray ray{host::to_secchi(camera.position()), host::to_secchi(camera.direction(open_x, open_y)), INFINITY};
             const Estimate l = est.radiance(ray, 0);
             const std::size_t i = static_cast<std::size_t>(open_y) * width + open_x;
-            std::printf("open water, pixel (%d, %d): image %.6g, est.radiance %.6g +- %.2g\n", open_x, open_y, value[i],
+            std::printf("open water, pixel (%d, %d): image %.7g, est.radiance %.7g +- %.2g\n", open_x, open_y, value[i],
                         l.value, l.se);
             check(value[i] == static_cast<float>(l.value) && se[i] == static_cast<float>(l.se),
-                  "open-water pixel == est.radiance(ray, t_max = inf)");
+                  "open-water pixel == est.radiance(unbounded ray)");
         }
         if (hit_x >= 0) {
+            // On an object: the pixel is the path radiance up to the object plus T times the
+            // object's radiance, recomputed here call by call.
             const host::Vec o = camera.position(), d = camera.direction(hit_x, hit_y);
             const auto hit = scene.intersect(o, d, 0.0, INFINITY);
-            const Ray to_object{to_secchi(o), to_secchi(d), hit->t};
+            const Ray to_object{host::to_secchi(o), host::to_secchi(d), hit->t};
             const Estimate path = est.radiance(to_object, 0);
             const double t = est.transmittance(to_object);
             const host::ObjectRadiance obj = host::shade(scene, est, ambient, *hit);
             const std::size_t i = static_cast<std::size_t>(hit_y) * width + hit_x;
             const double expected = path.value + t * obj.value();
-            std::printf("object, pixel (%d, %d) at %.3f m: image %.6g = path %.6g + T %.6g x object %.6g (sun %.4g + "
-                        "ambient %.4g)\n",
+            std::printf("object, pixel (%d, %d) at %.3f m: image %.7g = path %.6g + T %.6g x object %.6g "
+                        "(sun %.4g + ambient %.4g)\n",
                         hit_x, hit_y, hit->t, value[i], path.value, t, obj.value(), obj.sun, obj.ambient.value);
             check(std::abs(value[i] - expected) <= 1e-6 * expected, "object pixel == path(t) + T(t) x object radiance");
-            check(t > 0.0 && t < 1.0 && std::abs(t - std::exp(-water.attenuation() * hit->t)) <= 1e-12,
-                  "T(t) == exp(-c t) in homogeneous water");
-            // The contract the composition rests on: radiance() with t_max = t is the path
-            // radiance up to t only, so that the path to t plus T(t) times everything the ray
-            // would see from t onward is the unobstructed ray's radiance.
+            check(t > 0.0 && t < 1.0 && std::abs(t - std::exp(-optics.attenuation * hit->t)) <= 1e-9 * t,
+                  "T(t) == exp(-c' t), the optics' attenuation");
+            // What the composition rests on: radiance() with t_max = t is the path radiance up to
+            // t only, so the path to t plus T(t) times all the ray sees from t onward is the
+            // unobstructed ray's radiance (exactly, up to rounding, for a ray that reaches the
+            // surface or the bottom before its transmittance falls to
+            // RadianceSettings::ray_transmittance, as this upward ray does).
             const Estimate whole = est.radiance(Ray{to_object.origin, to_object.direction, INFINITY}, 0);
-            const Estimate beyond = est.radiance(Ray{to_secchi(hit->point), to_object.direction, INFINITY}, 0);
+            const Estimate beyond = est.radiance(Ray{host::to_secchi(hit->point), to_object.direction, INFINITY}, 0);
             const double joined = path.value + t * beyond.value;
-            std::printf("composition: path(0, t) %.6g + T(t) x L(t, inf) %.6g = %.9g; L(0, inf) = %.9g\n", path.value,
-                        beyond.value, joined, whole.value);
-            check(std::abs(joined - whole.value) <= 1e-9 * whole.value, "path(0, t) + T(t) L(t, inf) == L(0, inf)");
+            std::printf("composition: path(0, t) %.6g + T(t) x L(t onward) %.6g = %.9g; L(whole ray) = %.9g\n",
+                        path.value, beyond.value, joined, whole.value);
+            check(std::abs(joined - whole.value) <= 1e-9 * whole.value, "path(0, t) + T(t) L(t onward) == L(whole ray)");
         }
         std::printf("total %.1f s\n", seconds_since(t0));
         if (failures) {

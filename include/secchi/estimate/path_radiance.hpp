@@ -259,14 +259,22 @@ template <class Store, CollectionVolume Volume, RayOptics Optics>
 class PathRadianceEstimator {
 public:
     /// map: the photons and their normalisation, batches and periodic section
-    /// (map/photon_map.hpp); the collection radius must be < half the section width.
+    /// (map/photon_map.hpp); optics: the water's, for every band; the collection radius must be
+    /// < half the section width.
     PathRadianceEstimator(const PhotonMap<Store>& map, Volume volume, Optics optics, Radius radius)
-        : map_(map), volume_(std::move(volume)), optics_(std::make_shared<const Optics>(std::move(optics))),
+        : PathRadianceEstimator(map, std::move(volume), std::vector<Optics>(map.bands(), optics), radius) {}
+    /// The same with each band's own optics (the water's IOPs at each band's wavelength), in
+    /// the map's band order.
+    PathRadianceEstimator(const PhotonMap<Store>& map, Volume volume, std::vector<Optics> per_band, Radius radius)
+        : map_(map), volume_(std::move(volume)), optics_(std::make_shared<const std::vector<Optics>>(std::move(per_band))),
           tables_(vertical_tables()), radius_(radius), section_(map.section_width()) {
+        require(optics_->size() == map.bands(), "optics per band", optics_->size(),
+                "must be one per band of the map (" + std::to_string(map.bands()) + ")");
         section_.require_radius(radius.value());
     }
     /// A temporary map would be gone before the estimator's first query.
     PathRadianceEstimator(const PhotonMap<Store>&&, Volume, Optics, Radius) = delete;
+    PathRadianceEstimator(const PhotonMap<Store>&&, Volume, std::vector<Optics>, Radius) = delete;
 
     static constexpr unsigned max_batches = 256;  ///< as TransportSettings allows
 
@@ -285,7 +293,7 @@ public:
     /// this is that batch's estimate (each batch alone stands for all the photons).
     [[nodiscard]] double batch_scale() const { return map_.flux().per_record * map_.batches(); }
     [[nodiscard]] const PhotonMap<Store>& map() const { return map_; }
-    [[nodiscard]] const Optics& optics() const { return *optics_; }
+    [[nodiscard]] const Optics& optics(unsigned band = 0) const { return (*optics_)[band]; }
     [[nodiscard]] Radius radius() const { return radius_; }
 
     /// Radiance averaged over a set of rays (e.g. a grid of parallel rays in a horizontally
@@ -324,13 +332,14 @@ private:
     /// The coded optics of the two vertical directions, [0] for +z and [1] for -z (coded_rays;
     /// else nothing). cos psi takes the same 256 values on every ray of one direction
     /// (vertical_cosines), so one table serves them all (a table costs a few microseconds: 256
-    /// phase lookups scattered over the phase table). They refer to *optics_, which they share.
+    /// phase lookups scattered over the phase table). They refer to the optics of band 0, which
+    /// they share; they serve maps of one band (several: the per-photon path, which picks the band).
     using VerticalTables = typename detail::VerticalTablesOf<Optics, coded_rays>::type;
     [[nodiscard]] std::shared_ptr<const VerticalTables> vertical_tables() const {
         if constexpr (coded_rays)
             return std::make_shared<const VerticalTables>(
-                VerticalTables{optics_->for_cosines(detail::vertical_cosines<Record>(1.0)),
-                               optics_->for_cosines(detail::vertical_cosines<Record>(-1.0))});
+                VerticalTables{optics_->front().for_cosines(detail::vertical_cosines<Record>(1.0)),
+                               optics_->front().for_cosines(detail::vertical_cosines<Record>(-1.0))});
         else
             return nullptr;
     }
@@ -348,9 +357,10 @@ private:
                        " m): trace with a deeper TransportSettings::map_depth");
         if constexpr (coded_rays)
             if (is_vertical(ray) && map_.bands() == 1) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
+        const Optics& band_optics = optics(band);
         return sum_photons(ray, batch_sums, band, [&](const Record& rec, double t) {
             const double cos_psi = -glm::dot(rec.direction(), ray.direction);
-            return optics_->in_scatter(rec.position().z, cos_psi, ray, t);
+            return band_optics.in_scatter(rec.position().z, cos_psi, ray, t);
         });
     }
 
@@ -435,7 +445,7 @@ private:
     const PhotonMap<Store>& map_;
     Volume volume_;
     /// On the heap, so that the tables' references to it hold in every copy of the estimator.
-    std::shared_ptr<const Optics> optics_;
+    std::shared_ptr<const std::vector<Optics>> optics_;
     std::shared_ptr<const VerticalTables> tables_;  ///< vertical_tables(), built once
     Radius radius_;
     PeriodicSection section_;

@@ -107,14 +107,19 @@ private:
 template <class Store, CollectionVolume Volume, RayOptics Optics>
 class RadianceEstimator {
 public:
+    /// optics: the water's for every band of the map, or (per_band) each band's own.
     RadianceEstimator(const PhotonMap<Store>& map, Volume volume, Optics optics, Radius radius,
                       RadianceSettings settings = {})
-        : path_(map, std::move(volume), std::move(optics), radius), settings_(settings) {
+        : RadianceEstimator(map, std::move(volume), std::vector<Optics>(map.bands(), optics), radius, settings) {}
+    RadianceEstimator(const PhotonMap<Store>& map, Volume volume, std::vector<Optics> per_band, Radius radius,
+                      RadianceSettings settings = {})
+        : path_(map, std::move(volume), std::move(per_band), radius), settings_(settings) {
         (void)length_to_transmittance(path_.optics(), Ray{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0.0},
                                       settings.ray_transmittance);  // validates the setting
     }
     /// A temporary map would be gone before the estimator's first query.
     RadianceEstimator(const PhotonMap<Store>&&, Volume, Optics, Radius, RadianceSettings = {}) = delete;
+    RadianceEstimator(const PhotonMap<Store>&&, Volume, std::vector<Optics>, Radius, RadianceSettings = {}) = delete;
 
     [[nodiscard]] const PhotonMap<Store>& map() const { return path_.map(); }
     [[nodiscard]] const PathRadianceEstimator<Store, Volume, Optics>& path() const { return path_; }
@@ -161,22 +166,22 @@ public:
     /// The ray's transmittance to where it ends: T in water, times the Fresnel transmittance and
     /// the n^2 factor where it crosses the surface from the air (what a host multiplies its own
     /// object's radiance by, at t_max).
-    [[nodiscard]] double transmittance(const Ray& ray) const {
+    [[nodiscard]] double transmittance(const Ray& ray, unsigned band = 0) const {
         if (ray.origin.z < 0.0) {
             if (ray.direction.z <= 0.0) return 1.0;
             const double t_s = -ray.origin.z / ray.direction.z;
             if (t_s >= ray.t_max) return 1.0;
             const Crossing into = from_air(ray.direction);
-            return into.transmitted * transmittance(Ray{surface_point(ray, t_s), into.direction, ray.t_max - t_s});
+            return into.transmitted * transmittance(Ray{surface_point(ray, t_s), into.direction, ray.t_max - t_s}, band);
         }
-        return path_.optics().transmittance(ray, ray.t_max);
+        return path_.optics(band).transmittance(ray, ray.t_max);
     }
 
     /// The sun's direct beam at `point` (a delta in direction, not part of radiance()): above
     /// the water the source's; in water refracted by the flat surface, its E_perp times the
     /// Fresnel transmittance, cos(theta_a) / cos(theta_w) (the beam's cross-section narrows),
     /// and the water's transmittance along the beam.
-    [[nodiscard]] DirectBeam direct_sun(const vec3& point) const {
+    [[nodiscard]] DirectBeam direct_sun(const vec3& point, unsigned band = 0) const {
         const DirectBeam& sun = map().scene().light.sun();
         if (point.z < 0.0) return sun;
         require_in_water(point.z);
@@ -184,7 +189,7 @@ public:
         const vec3 v = s.transmit_into_water(sun.direction);
         const double e = sun.e_perp * (1.0 - s.reflectance_from_air(sun.direction)) * sun.direction.z / v.z;
         const double t = point.z / v.z;
-        return {v, e * path_.optics().transmittance(Ray{point, -v, t}, t)};
+        return {v, e * path_.optics(band).transmittance(Ray{point, -v, t}, t)};
     }
 
 private:
@@ -249,7 +254,7 @@ private:
             end = End::bottom;
             t_boundary = (bottom.depth - ray.origin.z) / d.z;
         }
-        const Optics& optics = path_.optics();
+        const Optics& optics = path_.optics(band);
         const double t_end = std::min(ray.t_max, t_boundary);
         const double t_path = length_to_transmittance(optics, Ray{ray.origin, d, t_end}, settings_.ray_transmittance);
         add_path(Ray{ray.origin, d, t_path}, band, weight, sum);
@@ -259,7 +264,7 @@ private:
         const double w = weight * optics.transmittance(ray, t_boundary);
         if (end == End::bottom) {
             if (bottom.kind == BottomKind::lambertian) {
-                const Estimate& ed = map().bottom_ed();
+                const Estimate& ed = map().bottom_ed(band);
                 sum.add_shared(w * bottom.albedo * ed.value / pi, w * bottom.albedo * ed.se / pi);
             }
             return;

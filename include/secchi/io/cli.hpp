@@ -68,6 +68,32 @@ public:
         return out;
     }
 
+    /// A range option, START:STOP:STEP (STOP included when the steps land on it) or one number.
+    [[nodiscard]] std::vector<double> range(const std::string& name, const std::string& fallback) const {
+        const std::string t = has(name) ? text(name) : fallback;
+        std::vector<std::string> parts(1);
+        for (char ch : t) {
+            if (ch == ':') parts.emplace_back();
+            else parts.back().push_back(ch);
+        }
+        const auto number = [&](const std::string& part) {
+            double v = 0.0;
+            const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
+            if (part.empty() || ec != std::errc{} || end != part.data() + part.size() || !std::isfinite(v))
+                reject("--" + name, t, "is not a number (expected START:STOP:STEP or one number)");
+            return v;
+        };
+        if (parts.size() == 1) return {number(parts[0])};
+        if (parts.size() != 3) reject("--" + name, t, "expected START:STOP:STEP or one number");
+        const double start = number(parts[0]), stop = number(parts[1]), step = number(parts[2]);
+        if (!(step > 0.0) || stop < start) reject("--" + name, t, "needs STEP > 0 and STOP >= START");
+        const double n = std::floor((stop - start) / step + 1e-9);
+        if (n > 1e6) reject("--" + name, t, "has more than a million values");
+        std::vector<double> out;
+        for (int k = 0; k <= static_cast<int>(n); ++k) out.push_back(start + k * step);
+        return out;
+    }
+
 private:
     template <class T>
     static T parse(const std::string& name, const std::string& t) {

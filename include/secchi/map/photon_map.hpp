@@ -58,12 +58,30 @@ public:
     /// pass's); wavelengths_nm: one entry per band (one band of unstated wavelength by default).
     PhotonMap(Store store, RecordFlux flux, unsigned batches, MapScene scene, Estimate bottom_ed = {},
               std::vector<double> wavelengths_nm = {NAN})
-        : store_(std::move(store)), flux_(flux), batches_(batches), scene_(std::move(scene)), bottom_ed_(bottom_ed),
+        : PhotonMap(PerBand{}, std::move(store), flux, batches, std::move(scene),
+                    std::vector<Estimate>(std::max<std::size_t>(wavelengths_nm.size(), 1), bottom_ed), std::move(wavelengths_nm)) {}
+
+    /// A map of several bands (a spectral run, solver/spectral.hpp): Ed on the bottom per band.
+    /// Every record carries the same flux whatever its band (the manual's 3.3.1.2: photons per
+    /// band in proportion to the band's share of the source's flux).
+    static PhotonMap of_bands(Store store, RecordFlux flux, unsigned batches, MapScene scene,
+                              std::vector<double> wavelengths_nm, std::vector<Estimate> bottom_ed) {
+        require(bottom_ed.size() == wavelengths_nm.size(), "bottom Ed per band", bottom_ed.size(),
+                "must be one per band (" + std::to_string(wavelengths_nm.size()) + ")");
+        return PhotonMap(PerBand{}, std::move(store), flux, batches, std::move(scene), std::move(bottom_ed),
+                         std::move(wavelengths_nm));
+    }
+
+private:
+    struct PerBand {};  // tags the constructor of per-band bottom irradiances
+    PhotonMap(PerBand, Store store, RecordFlux flux, unsigned batches, MapScene scene, std::vector<Estimate> bottom_ed,
+              std::vector<double> wavelengths_nm)
+        : store_(std::move(store)), flux_(flux), batches_(batches), scene_(std::move(scene)), bottom_ed_(std::move(bottom_ed)),
           wavelengths_(std::move(wavelengths_nm)) {
         require(batches >= 1 && batches <= max_batches, "batches", batches, "must be in [1, 256]");
         require(!wavelengths_.empty() && wavelengths_.size() <= 256, "bands", wavelengths_.size(), "must be in [1, 256]");
-        require(std::isfinite(bottom_ed.value) && bottom_ed.value >= 0.0, "bottom Ed", bottom_ed.value,
-                "must be finite and >= 0");
+        for (const Estimate& e : bottom_ed_)
+            require(std::isfinite(e.value) && e.value >= 0.0, "bottom Ed", e.value, "must be finite and >= 0");
         // Every record's batch needs its sum and every band its wavelength: once per map, O(N),
         // far below the store's own build.
         unsigned batch = 0, band = 0;
@@ -77,6 +95,8 @@ public:
         require(band < wavelengths_.size(), "bands", wavelengths_.size(),
                 "are fewer than the map's: a stored photon has band index " + std::to_string(band));
     }
+
+public:
 
     /// The map of a first pass's result (a TransportResult: records, map_flux, batches,
     /// bottom_ed), its records moved into a Store built with store_args.
@@ -93,8 +113,8 @@ public:
     [[nodiscard]] const MapScene& scene() const { return scene_; }
     [[nodiscard]] double section_width() const { return scene_.slab.width(); }
     [[nodiscard]] const Bottom& bottom() const { return scene_.slab.bottom(); }
-    /// Ed arriving on the bottom (0 without one), from the first pass.
-    [[nodiscard]] const Estimate& bottom_ed() const { return bottom_ed_; }
+    /// Ed arriving on the bottom in band `band` (0 without one), from the first pass.
+    [[nodiscard]] const Estimate& bottom_ed(unsigned band = 0) const { return bottom_ed_.at(band); }
     [[nodiscard]] std::size_t bands() const { return wavelengths_.size(); }
     [[nodiscard]] const std::vector<double>& wavelengths_nm() const { return wavelengths_; }
 
@@ -103,7 +123,7 @@ private:
     RecordFlux flux_;
     unsigned batches_;
     MapScene scene_;
-    Estimate bottom_ed_;
+    std::vector<Estimate> bottom_ed_;  ///< per band
     std::vector<double> wavelengths_;
 };
 

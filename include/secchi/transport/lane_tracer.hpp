@@ -351,7 +351,7 @@ private:
                             Reals(L.z, aligned)};
         const Vec3 direction{Reals(L.dx, aligned), Reals(L.dy, aligned), Reals(L.dz, aligned)};
         Record* room = out.records.room(width);
-        out.records.commit(LaneRecords<Record>::make_kept(position, direction, band_index{0}, L.batch,
+        out.records.commit(LaneRecords<Record>::make_kept(position, direction, band_index{this->s_.band}, L.batch,
                                                           lanes::bits_of(keep), room));
     }
 

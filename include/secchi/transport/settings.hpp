@@ -37,6 +37,9 @@ struct TransportSettings {
     std::uint64_t map_photons = 0;      ///< the first photons (by index) whose scattering events are stored; 0 = none
     double map_depth = INFINITY;        ///< m: events deeper than this are not stored (photons are still traced)
     std::uint64_t seed = 1;
+    /// The band index every stored record carries (manual 3.3.1.2): a spectral run traces each
+    /// band with its own IOPs and its own index (solver/spectral.hpp).
+    std::uint8_t band = 0;
     unsigned threads = 1;
     unsigned batches = 32;              ///< independent batches for standard errors (>= 16 recommended)
     std::vector<double> depths;         ///< irradiance detector depths (m)

@@ -422,7 +422,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// with its direction before scattering.
     Record record_of(const PhotonState& p, std::uint8_t map_batch) const {
         const vec3 wrapped{slab_.wrap(p.pos.x), slab_.wrap(p.pos.y), p.pos.z};
-        return Record::make(wrapped, p.dir, band_index{0}, map_batch);
+        return Record::make(wrapped, p.dir, band_index{s_.band}, map_batch);
     }
 
     /// Russian roulette on the photon's weight (its cumulative survival probability),

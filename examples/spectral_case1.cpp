@@ -1,0 +1,95 @@
+// A spectral run of Case-1 water from a material file: every band of 400-700 nm (10 nm apart by
+// default) in one photon map, each band's photons traced through the water's IOPs at its
+// wavelength (solver/spectral.hpp), then per band: Ed(lambda, z) from the first pass, the nadir
+// radiance Lu(lambda, z) and the water-leaving radiance Lw(lambda) (seen from just above the
+// surface looking straight down: with the black sky nothing is reflected into it) from the map,
+// and the remote-sensing reflectance Rrs(lambda) = Lw / Ed(0+) (Mobley 1994, "Light and Water",
+// eq. 3.7; sr^-1), each with its SE (Ed(0+) is exact: the source's plane irradiance).
+// Sun at 30 deg, flat surface, black sky, infinitely deep water; the source's spectrum is flat
+// (E_perp = 1 per nm in every band: radiances are per unit E_perp, Rrs does not depend on it).
+#include <secchi/estimate/radiance.hpp>
+#include <secchi/io/cli.hpp>
+#include <secchi/io/material_medium.hpp>
+#include <secchi/solver/spectral.hpp>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+constexpr const char* usage = R"(usage: spectral_case1 [options]
+  --material FILE     DIRSIG material file (default examples/materials/case1_chlorophyll.mat)
+  --wavelengths R     nm, START:STOP:STEP or one value (default 400:700:10)
+  --depths R          m, for Ed and Lu (default 0:10:5)
+  --photons N         photons per band, all stored in the map (default 100000)
+  --threads T         (default 2)
+  --csv FILE          write rows wavelength_nm, depth_m, quantity, value, se: Ed and Lu at
+                      each depth, Lw and Rrs at -0.01 (the view 1 cm above the surface), to
+                      FILE (default spectral_case1.csv)
+)";
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace secchi;
+    return run_program(argc, argv, "spectral_case1", usage, [&] {
+        const CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "photons", "threads", "csv"});
+        const std::string material = cl.text("material", "examples/materials/case1_chlorophyll.mat");
+        const std::vector<double> wavelengths = cl.range("wavelengths", "400:700:10");
+        const std::vector<double> depths = cl.range("depths", "0:10:5");
+        const auto threads = static_cast<unsigned>(cl.count("threads", 2));
+
+        // The water at each band's wavelength, sampled every 5 cm to 300 m.
+        const auto model = io::read_iop_model(material, 1, "");
+        const auto profile_depths = iop::uniform_depths(300.0, 0.05);
+        std::vector<decltype(iop::stratify(model, 500.0, profile_depths))> media;
+        for (double wl : wavelengths) media.push_back(iop::stratify(model, wl, profile_depths));
+        // Each band's ray optics: the components' cone-averaged phase functions (eq. 5.5).
+        using Water = decltype(media)::value_type;
+        using Cone = ConeAveragedPhase<std::decay_t<decltype(media[0].phases()[0])>>;
+        std::vector<StratifiedRayOptics<Water>> optics;
+        for (const auto& water : media) {
+            std::vector<Cone> cones;
+            for (const auto& p : water.phases()) cones.emplace_back(p, 0.005, ConePeak::transmitted);
+            optics.emplace_back(water, cones);
+        }
+
+        PlaneParallelConfig cfg;
+        cfg.sun_zenith_deg = 30.0;
+        cfg.transport.photons = cfg.transport.map_photons = cl.count("photons", 100'000);
+        cfg.transport.depths = depths;
+        cfg.transport.threads = threads;
+        // The map holds every band's events down to where the deepest nadir ray of the clearest
+        // band has faded to 1e-4, plus the collection radius.
+        const Radius radius(0.05);
+        for (const auto& o : optics)
+            for (double z : depths)
+                cfg.transport.map_depth = std::max(std::isfinite(cfg.transport.map_depth) ? cfg.transport.map_depth : 0.0,
+                                                   z + detail::nadir_ray_length(o, z, cfg) + radius.value());
+        const auto run = trace_spectral_map<VoiGridStore<CompactRecord>>(media, wavelengths, cfg, radius);
+        const RadianceEstimator est(run.map, VoiCylinder(0.0, INFINITY), optics, radius);
+
+        std::ofstream csv(cl.text("csv", "spectral_case1.csv"));
+        csv << "wavelength_nm,depth_m,quantity,value,se\n";
+        std::printf("%7s %22s %22s %22s\n", "lambda", "Lw (W m^-2 sr^-1 nm^-1)", "Rrs (sr^-1)", "Ed(5 m) or first depth");
+        for (std::size_t k = 0; k < wavelengths.size(); ++k) {
+            const auto band = static_cast<unsigned>(k);
+            const double ed0 = run.first_pass[k].source_irradiance;  // Ed(0+), exact
+            // Lw: a 10 x 10 grid of nadir views 1 cm above the surface.
+            std::vector<Ray> above;
+            for (const Ray& r : nadir_ray_grid(-0.01, INFINITY, 10, run.map.section_width())) above.push_back(r);
+            const Estimate lw = est.average(above, band, threads);
+            for (std::size_t i = 0; i < depths.size(); ++i) {
+                const Estimate ed = run.first_pass[k].depths[i].irradiance[Ed];
+                const Estimate lu = est.average(nadir_ray_grid(depths[i], INFINITY, 10, run.map.section_width()), band, threads);
+                csv << wavelengths[k] << ',' << depths[i] << ",Ed," << ed.value << ',' << ed.se << '\n';
+                csv << wavelengths[k] << ',' << depths[i] << ",Lu," << lu.value << ',' << lu.se << '\n';
+            }
+            csv << wavelengths[k] << ",-0.01,Lw," << lw.value << ',' << lw.se << '\n';
+            csv << wavelengths[k] << ",-0.01,Rrs," << lw.value / ed0 << ',' << lw.se / ed0 << '\n';
+            const Estimate ed_shown = run.first_pass[k].depths[std::min<std::size_t>(1, depths.size() - 1)].irradiance[Ed];
+            std::printf("%7.0f %12.4e +- %7.1e %12.4e +- %7.1e %12.4e +- %7.1e\n", wavelengths[k], lw.value, lw.se,
+                        lw.value / ed0, lw.se / ed0, ed_shown.value, ed_shown.se);
+        }
+        return 0;
+    });
+}
