@@ -1,19 +1,19 @@
 // Radiance queries per second for a camera: the whole radiance (estimate/radiance.hpp) of the
-// rays of a 512 x 512 pinhole camera under the water looking up (examples/underwater_camera's
-// "up" view: rays to the surface, Snell's window, the water's light reflected beyond it down
-// to the bottom), through one photon map held by each store with its collection volume: the
+// rays of a 512 x 512 pinhole camera 4 m under the water looking up (the scene of
+// examples/underwater_camera, coastal_scene.hpp; rays to the surface, Snell's window, the
+// water's light reflected beyond it down to the bottom), through one photon map held by each store with its collection volume: the
 // VOI grid and the VOI octree with the cylinder, the k-d tree with n spheres per ray segment.
 // Every rows_step-th row of the image is timed (the rows spread over the whole field of view),
 // each store on the same rays, in paired rounds: the ratios of one round see the same load of
 // the shared machine. Also printed: the mean radiance of the timed pixels by each store (the
 // same quantity, within its SE) and the photons each ray collects.
+#include "coastal_scene.hpp"
 #include "bench_timing.hpp"
 #include <secchi/estimate/render.hpp>
 #include <secchi/io/cli.hpp>
 #include <secchi/map/kdtree.hpp>
 #include <secchi/map/voi_grid.hpp>
 #include <secchi/map/voi_octree.hpp>
-#include <secchi/optics/phase/petzold.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 #include <cstdio>
 #include <string>
@@ -58,14 +58,8 @@ int main(int argc, char** argv) {
         const int rounds = static_cast<int>(cl.count("rounds", 3));
         require(step >= 1 && rounds >= 1, "rows step and rounds", step * rounds, "must be >= 1");
 
-        const auto water = HomogeneousWater<TabulatedPhase>(0.1, 0.3, petzold_m93());
-        PlaneParallelConfig cfg;
-        cfg.sun_zenith_deg = 30.0;
-        cfg.sky_irradiance = 0.2;
-        cfg.bottom = Bottom::lambertian_at(8.0, 0.3);
-        cfg.transport.photons = cfg.transport.map_photons = cl.count("map-photons", 1'000'000);
-        cfg.transport.depths = {0.0, 4.0};
-        cfg.transport.threads = threads;
+        const auto water = examples::coastal_water();
+        const PlaneParallelConfig cfg = examples::coastal_config(cl.count("map-photons", 1'000'000), threads);
         const Radius radius(0.05);
         auto first = trace_photon_map<VoiGridStore<CompactRecord>>(water, cfg, radius);
         const auto& grid = first.map;
@@ -100,12 +94,15 @@ int main(int argc, char** argv) {
             kd_ratio.push_back(k.seconds / g.seconds);
         }
         const double n = static_cast<double>(rays.size());
+        // Work to a given SE: time x SE^2 (the SE of the pixels' mean falls as 1 / sqrt(rays)).
         const auto row = [&](const char* name, const std::vector<double>& s, const Result& r, double ratio) {
-            std::printf("| %-22s | %9.0f | %9.3g | %8.4f +- %.4f | %6.2f |\n", name, n / bench::median(s),
-                        static_cast<double>(r.photons) / n, r.mean, r.mean_se, ratio);
+            std::printf("| %-22s | %9.0f | %9.3g | %.5f +- %.3g | %6.2f | %6.2f |\n", name, n / bench::median(s),
+                        static_cast<double>(r.photons) / n, r.mean, r.mean_se, ratio,
+                        ratio * (r.mean_se * r.mean_se) / (g.mean_se * g.mean_se));
         };
-        std::printf("| store, volume | rays/s | photons per ray | mean L of the timed pixels | time / VOI grid's |\n");
-        std::printf("|---|---|---|---|---|\n");
+        std::printf("| store, volume | rays/s | photons per ray | mean L of the timed pixels | time / VOI grid's | "
+                    "time x SE^2 / VOI grid's |\n");
+        std::printf("|---|---|---|---|---|---|\n");
         row("VOI grid, cylinder", grid_s, g, 1.0);
         row("VOI octree, cylinder", octree_s, o, bench::median(octree_ratio));
         row("k-d tree, spheres", kd_s, k, bench::median(kd_ratio));

@@ -1,19 +1,19 @@
-// Images of the light in a coastal water body, from one photon map: a pinhole camera under
+// Images of the light in a coastal water body, from one photon map: a pinhole camera 2 m under
 // the water looking up (Snell's window: the sky compressed into a 97 deg cone, the water's
-// own light reflected beyond it), one looking level, one above the water looking down at
+// own light reflected beyond it), one at 4 m looking level, one above the water looking down at
 // 45 deg (the sky reflected, the water-leaving radiance), and the radiance distribution at
-// the camera's depth as a latitude-longitude map. Each image is an OpenEXR file (radiance
+// 4 m as a latitude-longitude map. Each image is an OpenEXR file (radiance
 // and its SE per pixel, W m^-2 sr^-1 nm^-1 per unit E_perp of the sun) and a PNG preview.
 //
-// Water: a = 0.1, b = 0.3 /m (c = 0.4 /m, w0 = 0.75), Petzold's particle phase function, a
+// The scene (coastal_scene.hpp): a = 0.1, b = 0.3 /m (c = 0.4 /m, w0 = 0.75), Petzold, a
 // Lambertian bottom of albedo 0.3 at 8 m; flat surface (n = 1.34); sun at 30 deg (E_perp = 1)
 // and a uniform sky of plane irradiance 0.2.
+#include "coastal_scene.hpp"
 #include <secchi/estimate/radiance_distribution.hpp>
 #include <secchi/estimate/render.hpp>
 #include <secchi/io/cli.hpp>
 #include <secchi/io/exr.hpp>
 #include <secchi/io/png_preview.hpp>
-#include <secchi/optics/phase/petzold.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 #include <chrono>
 #include <cstdio>
@@ -38,14 +38,8 @@ int main(int argc, char** argv) {
         const int size = static_cast<int>(cl.count("size", 256));
         const std::string out = cl.text("out", "camera_");
 
-        const auto water = HomogeneousWater<TabulatedPhase>(0.1, 0.3, petzold_m93());
-        PlaneParallelConfig cfg;
-        cfg.sun_zenith_deg = 30.0;
-        cfg.sky_irradiance = 0.2;
-        cfg.bottom = Bottom::lambertian_at(8.0, 0.3);
-        cfg.transport.photons = cfg.transport.map_photons = cl.count("map-photons", 1'000'000);
-        cfg.transport.depths = {0.0, 4.0};
-        cfg.transport.threads = threads;
+        const auto water = examples::coastal_water();
+        const PlaneParallelConfig cfg = examples::coastal_config(cl.count("map-photons", 1'000'000), threads);
         const Radius radius(0.05);
         const auto t0 = std::chrono::steady_clock::now();
         const auto mapped = trace_photon_map<VoiGridStore<CompactRecord>>(water, cfg, radius);
@@ -67,7 +61,7 @@ int main(int argc, char** argv) {
             std::printf("%s: %.1f s\n", name.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
             save(image, name);
         };
-        shoot("up", {{0.5, 0.5, 4.0}, {0.0, 0.0, -1.0}, {1.0, 0.0, 0.0}, 120.0, size, size});
+        shoot("up", {{0.5, 0.5, 2.0}, {0.0, 0.0, -1.0}, {1.0, 0.0, 0.0}, 120.0, size, size});
         shoot("level", {{0.5, 0.5, 4.0}, {1.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, 70.0, size * 3 / 2, size});
         shoot("above", {{0.5, 0.5, -3.0}, {1.0, 0.0, 1.0}, {0.0, 0.0, -1.0}, 60.0, size * 3 / 2, size});
         save(radiance_distribution(est, 4.0, {2 * size, size, render_settings.samples_per_pixel, threads, 1}),

@@ -6,7 +6,7 @@ the tests). Usage:
     python3 scripts/independent_ed_check.py 2a:A 3e7 [out.json]   # problem:definition photons
     python3 scripts/independent_ed_check.py 1a 1e7
     python3 scripts/independent_ed_check.py pf 0                   # the two Petzold definitions' moments
-README.md (conformance) gives the results.
+docs/conformance.md gives the results.
 
 Plane-parallel, infinitely deep homogeneous water, flat surface (n = 1.340),
 black sky, sun at 60 deg zenith, E_perp = 1 => Ed(air) = cos(60) = 0.5.

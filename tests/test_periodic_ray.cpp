@@ -186,9 +186,10 @@ TEST_CASE("Any ray in a periodic section collects a uniform map's exact radiance
     const PathRadianceEstimator by_grid(grid, cylinder, optics, r);
     const PathRadianceEstimator by_spheres(kd, StepSpheres(64, 0.0, depth), optics, r);
 
-    // Groups of rays: at 0, 30, 60, 85 and 90 degrees from the vertical, up to 10 widths long;
-    // and rays along the seams (x = 0, x = W, y = 0), through the corners, and vertical rays
-    // whose cylinders cross a seam or a corner.
+    // Groups of rays: at 0, 30, 60, 85 and 90 degrees from the vertical and in directions
+    // uniform on the sphere, up to 10 widths long, from origins within five widths of the
+    // section; and rays along the seams (x = 0, x = W, y = 0), through the corners, and vertical
+    // rays whose cylinders cross a seam or a corner.
     PhotonRng rng(7, 0);
     std::vector<std::pair<std::string, std::vector<Ray>>> groups;
     for (const double theta : {0.0, 30.0, 60.0, 85.0, 90.0}) {
@@ -196,6 +197,10 @@ TEST_CASE("Any ray in a periodic section collects a uniform map's exact radiance
         for (int i = 0; i < 12; ++i) rays.push_back(random_ray(rng, theta, width, 10.0 * width, 0.5 * depth));
         groups.emplace_back(std::to_string(static_cast<int>(theta)) + " deg", rays);
     }
+    std::vector<Ray> any_direction;  // directions uniform on the sphere
+    for (int i = 0; i < 24; ++i)
+        any_direction.push_back(random_ray(rng, std::acos(rng.uniform()) / deg, width, 10.0 * width, 0.5 * depth));
+    groups.emplace_back("any direction", any_direction);
     const double z = 0.5 * depth;
     groups.emplace_back("seams and corners",
                         std::vector<Ray>{{{0.0, 0.2, z}, direction_at(60.0, 0.5 * pi), 4.0},
