@@ -86,6 +86,7 @@ TEST_CASE("Boundary terms of the whole radiance: bottom, surface from below and 
         const Ray to_object{origin, look(theta, phi, true), t_object};
         CHECK(est.radiance(to_object).value == 0.0);
         CHECK(est.transmittance(to_object) == Approx(std::exp(-c * t_object)).epsilon(1e-12));
+        CHECK_THROWS_WITH(est.transmittance({origin, look(theta, phi, true), 3.0 * t_object}), Contains("beyond the water"));
     }
 }
 

@@ -165,7 +165,8 @@ public:
 
     /// The ray's transmittance to where it ends: T in water, times the Fresnel transmittance and
     /// the n^2 factor where it crosses the surface from the air (what a host multiplies its own
-    /// object's radiance by, at t_max).
+    /// object's radiance by, at t_max). An object must lie in the medium the ray reaches: a ray
+    /// from the water whose t_max lies beyond the surface or the bottom is refused.
     [[nodiscard]] double transmittance(const Ray& ray, unsigned band = 0) const {
         if (ray.origin.z < 0.0) {
             if (ray.direction.z <= 0.0) return 1.0;
@@ -174,6 +175,10 @@ public:
             const Crossing into = from_air(ray.direction);
             return into.transmitted * transmittance(Ray{surface_point(ray, t_s), into.direction, ray.t_max - t_s}, band);
         }
+        const Boundary boundary = boundary_of(ray);
+        require(ray.t_max <= boundary.t, "ray length (m)", ray.t_max,
+                "reaches beyond the water (the surface or the bottom, " + std::to_string(boundary.t) +
+                    " m along the ray): the transmittance is that of a ray in the water");
         return path_.optics(band).transmittance(ray, ray.t_max);
     }
 
@@ -193,6 +198,22 @@ public:
     }
 
 private:
+    /// Where a ray from a point in the water meets the water's boundary: the surface (looking
+    /// up), the bottom (looking down, if there is one), or nothing (t infinite).
+    enum class End { none, surface, bottom };
+    struct Boundary {
+        End end;
+        double t;
+    };
+    Boundary boundary_of(const Ray& ray) const {
+        require_in_water(ray.origin.z);
+        const Bottom& bottom = map().bottom();
+        if (ray.direction.z < 0.0) return {End::surface, ray.origin.z / -ray.direction.z};
+        if (ray.direction.z > 0.0 && bottom.kind != BottomKind::none)
+            return {End::bottom, (bottom.depth - ray.origin.z) / ray.direction.z};
+        return {End::none, INFINITY};
+    }
+
     /// A direction crossing the surface and the radiance factor (1 - R) (n_from / n_to)^2.
     struct Crossing {
         vec3 direction;
@@ -242,18 +263,9 @@ private:
     }
 
     void add_in_water(const Ray& ray, unsigned band, double weight, RadianceSum& sum) const {
-        require_in_water(ray.origin.z);
         const vec3& d = ray.direction;
         const Bottom& bottom = map().bottom();
-        enum class End { none, surface, bottom } end = End::none;
-        double t_boundary = INFINITY;
-        if (d.z < 0.0) {
-            end = End::surface;
-            t_boundary = ray.origin.z / -d.z;
-        } else if (d.z > 0.0 && bottom.kind != BottomKind::none) {
-            end = End::bottom;
-            t_boundary = (bottom.depth - ray.origin.z) / d.z;
-        }
+        const auto [end, t_boundary] = boundary_of(ray);
         const Optics& optics = path_.optics(band);
         const double t_end = std::min(ray.t_max, t_boundary);
         const double t_path = length_to_transmittance(optics, Ray{ray.origin, d, t_end}, settings_.ray_transmittance);
