@@ -11,6 +11,7 @@
 #include <secchi/io/cli.hpp>
 #include <secchi/io/material_medium.hpp>
 #include <secchi/solver/spectral.hpp>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -37,6 +38,11 @@ int main(int argc, char** argv) {
         const std::vector<double> wavelengths = cl.range("wavelengths", "400:700:10");
         const std::vector<double> depths = cl.range("depths", "0:10:5");
         const auto threads = static_cast<unsigned>(cl.count("threads", 2));
+        const std::uint64_t photons = cl.count("photons", 100'000);
+        require(photons >= 1, "--photons", photons, "must be >= 1");
+        const std::string csv_path = cl.text("csv", "spectral_case1.csv");
+        std::ofstream csv(csv_path);  // opened before the work: a path that cannot be written fails at once
+        require(static_cast<bool>(csv), "--csv", csv_path, "cannot be opened for writing");
 
         // The water at each band's wavelength, sampled every 5 cm to 300 m.
         const auto model = io::read_iop_model(material, 1, "");
@@ -55,7 +61,7 @@ int main(int argc, char** argv) {
 
         PlaneParallelConfig cfg;
         cfg.sun_zenith_deg = 30.0;
-        cfg.transport.photons = cfg.transport.map_photons = cl.count("photons", 100'000);
+        cfg.transport.photons = cfg.transport.map_photons = photons;
         cfg.transport.depths = depths;
         cfg.transport.threads = threads;
         // The map holds every band's events down to where the deepest nadir ray of the clearest
@@ -68,7 +74,6 @@ int main(int argc, char** argv) {
         const auto run = trace_spectral_map<VoiGridStore<CompactRecord>>(media, wavelengths, cfg, radius);
         const RadianceEstimator est(run.map, VoiCylinder(0.0, INFINITY), optics, radius);
 
-        std::ofstream csv(cl.text("csv", "spectral_case1.csv"));
         csv << "wavelength_nm,depth_m,quantity,value,se\n";
         std::printf("%7s %22s %22s %22s\n", "lambda", "Lw (W m^-2 sr^-1 nm^-1)", "Rrs (sr^-1)", "Ed(5 m) or first depth");
         for (std::size_t k = 0; k < wavelengths.size(); ++k) {

@@ -16,6 +16,8 @@
 #include <secchi/io/png_preview.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 #include <chrono>
+#include <filesystem>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -35,8 +37,13 @@ int main(int argc, char** argv) {
     return run_program(argc, argv, "underwater_camera", usage, [&] {
         const CommandLine cl(argc, argv, {"map-photons", "size", "spp", "threads", "out"});
         const auto threads = static_cast<unsigned>(cl.count("threads", 2));
-        const int size = static_cast<int>(cl.count("size", 256));
+        const std::uint64_t size_option = cl.count("size", 256);
+        require(size_option >= 1 && size_option <= 8192, "--size", size_option, "must be 1 to 8192 pixels");
+        const int size = static_cast<int>(size_option);
         const std::string out = cl.text("out", "camera_");
+        // The output's folder must exist before the work, not after it.
+        const std::filesystem::path folder = std::filesystem::path(out + "up.exr").parent_path();
+        require(folder.empty() || std::filesystem::is_directory(folder), "--out", out, "names a folder that does not exist");
 
         const auto water = examples::coastal_water();
         const PlaneParallelConfig cfg = examples::coastal_config(cl.count("map-photons", 1'000'000), threads);
