@@ -114,8 +114,8 @@ public:
     RadianceEstimator(const PhotonMap<Store>& map, Volume volume, std::vector<Optics> per_band, Radius radius,
                       RadianceSettings settings = {})
         : path_(map, std::move(volume), std::move(per_band), radius), settings_(settings) {
-        (void)length_to_transmittance(path_.optics(), Ray{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0.0},
-                                      settings.ray_transmittance);  // validates the setting
+        require(settings.ray_transmittance > 0.0 && settings.ray_transmittance < 1.0, "ray transmittance",
+                settings.ray_transmittance, "must lie in (0, 1)");
     }
     /// A temporary map would be gone before the estimator's first query.
     RadianceEstimator(const PhotonMap<Store>&&, Volume, Optics, Radius, RadianceSettings = {}) = delete;
