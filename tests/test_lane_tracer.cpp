@@ -20,6 +20,12 @@ using namespace secchi;
 using lanes::lane_width;
 using lanes::Reals;
 
+// PhotonTracer and LaneTracer (double and float lanes) share one signature.
+using HgWater = HomogeneousWater<HenyeyGreensteinPhase>;
+static_assert(FirstPassTracer<PhotonTracer<HgWater, CompactRecord>>);
+static_assert(FirstPassTracer<LaneTracer<HgWater, CompactRecord>>);
+static_assert(FirstPassTracer<FloatLaneTracer<HgWater, FullRecord, WindBlownSurface>>);
+
 namespace {
 using lanes::Floats;
 constexpr int float_width = lanes::width_of<float>;

@@ -3,9 +3,12 @@
 // eq. 3.17, absorption or scattering by the albedo, equal-flux storage, Fresnel surface,
 // bottom, detectors, energy ledger) traced for lanes::lane_width photons at once. The step
 // every photon takes between events (free path, flight, absorption, storage, phase
-// sampling, rotation) runs on SIMD vectors, one photon per lane; what only some photons
-// meet (surface, bottom, a detector's plane, roulette, the end of a photon and the start of
-// the next) goes through PhotonTracer's own per-photon functions, lane by lane.
+// sampling, rotation) runs on SIMD vectors, one photon per lane, through the same rules
+// PhotonTracer applies to one photon (EventPhysics, event_physics.hpp: written once for both);
+// what only some photons meet (surface, bottom, a detector's plane, roulette, the end of a
+// photon and the start of the next) goes through PhotonTracer's own per-photon functions,
+// lane by lane. The two differ only in their schedule and share one signature (the
+// FirstPassTracer concept).
 //
 // Same problem, same estimates (within their standard errors; tests/test_lane_tracer.cpp),
 // not the same photons: each step draws one Philox block (four uniforms: free path,
@@ -40,13 +43,6 @@
 #if SECCHI_HAS_LANES
 namespace secchi {
 
-/// A phase function that samples cos psi for a vector of uniforms at once, with phi = 2 pi u2
-/// (as its scalar sample_direction does).
-template <class P, class Lanes = lanes::Reals>
-concept LanePhaseSampler = requires(const P p, Lanes u) {
-    { p.cos_psi(u) } -> std::same_as<Lanes>;
-};
-
 /// Real: the lanes' precision. double by default; float doubles the lanes per vector (8 with
 /// AVX2) for about 1.5 times the speed (BENCHMARKS.md), with positions,
 /// directions and weights rounded to float between events (a relative 6e-8; the map's records
@@ -74,13 +70,16 @@ class LaneTracer : private PhotonTracer<M, Record, Surface, Source> {
     static constexpr std::uint64_t flush_steps = 64;
 
 public:
+    using typename Base::medium_type, typename Base::record_type, typename Base::surface_type,
+        typename Base::source_type;
+
     /// The photons come from `source` (scene/source.hpp).
     LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
                TransportSettings settings)
         : Base(medium, slab, surface, source, supported(std::move(settings))),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(static_cast<Real>(
-              medium.coefficient(this->continuous_ ? Coefficient::scattering : Coefficient::attenuation, 0.0))) {}
+              medium.coefficient(this->physics_.path_coefficient(), 0.0))) {}
 
     /// A collimated sun and a uniform sky beside it (SunAndSky), as PhotonTracer's.
     LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
@@ -225,59 +224,44 @@ private:
         StepUniforms u;
         draw(L, u);
         const Mask alive(L.alive, aligned);
+        const EventPhysics& physics = this->physics_;
         // Free path (eq. 3.17): s = -ln(u) / c (b with continuous absorption), cut at the
         // surface or the floor if the photon gets there first.
-        const Real floor_depth = static_cast<Real>(this->slab_.floor_depth());
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
-        const Reals z_free = z + dz * s;
-        const Mask to_surface = z_free < Real(0), to_floor = z_free >= floor_depth;
-        Reals t = s, z1 = z_free;  // (the divisions only in the steps where a photon meets a boundary)
-        if (any_of(to_surface || to_floor)) {
-            t = select(to_floor, (floor_depth - z) / dz, select(to_surface, -z / dz, s));
-            z1 = select(to_surface, Reals(Real(0)), z + dz * t);  // on the surface exactly (PhotonTracer::follow)
-            // In floats on the floor exactly too (its detector plane is the next float shallower).
-            if constexpr (in_floats) z1 = select(to_floor, Reals(floor_depth), z1);
-        }
-        fly(L, alive, t, z1, out);
-        const Mask at_boundary = alive && (to_surface || to_floor);
+        const FreeFlight<Reals> flight = physics.free_flight(z, dz, s);
+        fly(L, alive, flight.t, flight.z1, out);
+        const Mask at_boundary = alive && (flight.to_surface || flight.to_floor);
         const Mask inside = alive && !at_boundary;
         const Vec3 before{Reals(L.dx, aligned), Reals(L.dy, aligned), dz};
         const Reals w(L.w, aligned);  // after the flight
 
-        // PhotonTracer::interact for the lanes inside: the scattering-order limit (manual
-        // 3.3.8), absorption by the albedo (3.3.5: all of an analog photon with probability
-        // 1 - w0, or the fraction 1 - w0 of its weight in implicit capture), storage, and a
-        // new direction from the phase function.
-        const Reals order(L.order, aligned);
-        Mask truncated(false);
-        if (this->s_.max_order != 0) truncated = inside && order >= static_cast<Real>(this->s_.max_order);
+        // PhotonTracer::interact for the lanes inside: the scattering-order limit, absorption
+        // by the albedo, storage, and a new direction from the phase function.
+        const Mask truncated = inside && physics.beyond_order(Reals(L.order, aligned));
         const Mask interacts = inside && !truncated;
         const Reals u_absorb_or_store(u.absorb_or_store, aligned);
-        Mask absorbed(false);
-        Reals w_after = w, absorbed_weight(L.absorbed, aligned);
-        if (this->s_.absorption == AbsorptionMode::analog) {
-            absorbed = interacts && u_absorb_or_store >= static_cast<Real>(this->w0_);
-            lanes::stdx::where(absorbed, absorbed_weight) = absorbed_weight + w;
-        } else if (this->s_.absorption == AbsorptionMode::implicit_capture) {
-            lanes::stdx::where(interacts, absorbed_weight) = absorbed_weight + w * static_cast<Real>(1.0 - this->w0_);
-            w_after = w * static_cast<Real>(this->w0_);
-        }  // continuous: every interaction scatters
+        const Absorption<Reals> absorption = physics.absorb(w, u_absorb_or_store, this->w0_);
+        const Mask absorbed = interacts && absorption.ends;
+        Reals absorbed_weight(L.absorbed, aligned);
+        lanes::stdx::where(interacts, absorbed_weight) = absorbed_weight + absorption.absorbed;
         absorbed_weight.copy_to(L.absorbed, aligned);
+        const Reals w_after = absorption.w;
         const Mask scatters = interacts && !absorbed;
-        const auto [cos_psi, phi] = scattering_angles(u, Reals(L.z, aligned));
+        const auto [cos_psi, phi] =
+            EventPhysics::angles(this->medium_, Reals(L.z, aligned), Reals(u.psi, aligned), Reals(u.phi, aligned));
         const Vec3 after = rotate_direction(before, cos_psi, phi);
 
         store_events(L, scatters, w_after, u_absorb_or_store, out);
         scatter(L, scatters, w_after, after);
-        Mask roulette(false);
-        if (this->s_.roulette_weight != 0.0) roulette = scatters && w_after < static_cast<Real>(this->s_.roulette_weight);
+        const Mask roulette = scatters && physics.roulette_due(w_after);
         // What only some photons meet, in one pass over their lanes in lane order (each kind
         // of event adds to its own ledger entries, so their sums keep the lanes' order); a lane
         // whose photon ended takes the block's next one.
         lanes::for_each(at_boundary || truncated || absorbed || roulette, [&](int l) {
             if (at_boundary[l]) {
-                boundary(L, l, z_free, out);
+                const bool surface = flight.to_surface[l];
+                per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) { return this->meet_boundary(p, rng, out, surface); });
             } else if (truncated[l]) {
                 out.ledger.truncated += L.w[l];
                 L.alive[l] = false;
@@ -295,7 +279,7 @@ private:
     SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, const Reals& z1,
                            detail::BlockResult<Record>& out) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned);
-        if (!this->continuous_) {
+        if (!this->physics_.continuous()) {
             this->planes_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
         } else {
             using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
@@ -308,7 +292,7 @@ private:
         (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
         (Reals(L.y, aligned) + Reals(L.dy, aligned) * t).copy_to(L.y, aligned);
         z1.copy_to(L.z, aligned);
-        if (!this->continuous_) return;
+        if (!this->physics_.continuous()) return;
         lanes::for_each(alive, [&](int l) {  // w exp(-a t), as PhotonTracer::fly
             const auto w = static_cast<Real>(
                 L.w[l] * std::exp(-this->medium_.optical_path(Coefficient::absorption, z[l], L.dz[l], t[l])));
@@ -326,26 +310,12 @@ private:
         return z;
     }
 
-    /// A lane's photon at the surface (Fresnel reflection or escape) or at the floor (the
-    /// bottom's reflection, or transmission), by PhotonTracer's functions.
-    void boundary(Lanes& L, int l, const Reals& z_free, detail::BlockResult<Record>& out) const {
-        const bool surface = z_free[l] < Real(0);
-        per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
-            if (surface) return this->leave_or_reflect_at_surface(p, rng, out);
-            if (this->slab_.bottom().kind != BottomKind::none) out.bottom_ed += p.w;
-            return this->reflect_at_bottom(p, rng, out.ledger);
-        });
-    }
-
-    /// Equal-flux storage (PhotonTracer::store_event without depth importance): every event
-    /// of an analog photon, else with probability equal to the photon's weight; none below
-    /// the map's depth. The records
-    /// are made for all lanes at once (LaneRecords) and the kept ones appended in lane order.
+    /// Equal-flux storage (EventPhysics::keeps, as PhotonTracer::store_event without depth
+    /// importance). The records are made for all lanes at once (LaneRecords) and the kept ones
+    /// appended in lane order.
     SECCHI_KERNEL void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
                                     detail::BlockResult<Record>& out) const {
-        Mask keep = scatters && Mask(L.stores, aligned);
-        if (this->s_.absorption != AbsorptionMode::analog) keep = keep && u < w;
-        if (std::isfinite(this->s_.map_depth)) keep = keep && Reals(L.z, aligned) <= Real(this->s_.map_depth);
+        const Mask keep = scatters && Mask(L.stores, aligned) && this->physics_.keeps(w, u, Reals(L.z, aligned));
         if (none_of(keep)) return;
         const Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
                             Reals(L.z, aligned)};
@@ -367,36 +337,6 @@ private:
         update(L.dz, after.z);
         update(L.w, w);
         update(L.order, Reals(L.order, aligned) + Real(1));
-    }
-
-    struct Angles {
-        Reals cos_psi, phi;
-    };
-
-    /// The scattering angles from the step's uniforms (psi, phi): in the vectors for a phase
-    /// function with a lane sampler (in float lanes also one for double lanes only, e.g. a
-    /// table, by groups of double lanes), else lane by lane (scattering_direction).
-    Angles scattering_angles(const StepUniforms& u, const Reals& z) const {
-        const Reals phi = static_cast<Real>(two_pi) * Reals(u.phi, aligned);
-        if constexpr (LanePhaseSampler<typename M::phase_type, Reals>) {
-            return {this->medium_.phase().cos_psi(Reals(u.psi, aligned)), phi};
-        } else if constexpr (in_floats && LanePhaseSampler<typename M::phase_type, lanes::Reals>) {
-            // A sampler in double lanes only (a table): the float lanes' uniforms in double groups.
-            alignas(64) Real cos_psi[width];
-            for (int g = 0; g < width; g += lanes::lane_width) {
-                const lanes::Reals mu = this->medium_.phase().cos_psi(lanes::Reals([&](int l) { return double(u.psi[g + l]); }));
-                for (int l = 0; l < lanes::lane_width; ++l) cos_psi[g + l] = static_cast<Real>(mu[l]);
-            }
-            return {Reals(cos_psi, aligned), phi};
-        } else {
-            alignas(64) Real cos_psi[width], azimuth[width];
-            for (int l = 0; l < width; ++l) {
-                const PhaseDirection d = scattering_direction(this->medium_, z[l], u.psi[l], u.phi[l]);
-                cos_psi[l] = static_cast<Real>(d.cos_psi);
-                azimuth[l] = static_cast<Real>(d.phi);
-            }
-            return {Reals(cos_psi, aligned), Reals(azimuth, aligned)};
-        }
     }
 
     lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)

@@ -7,7 +7,9 @@
 // surface from below, a Lambertian or transparent bottom, and irradiance detectors. Light
 // going up from the surface into the air is handed to the source when the source can send it
 // back (a traced atmosphere: the coupled system), and comes down onto the surface again or
-// leaves. Every photon's weight ends in the energy ledger.
+// leaves. Every photon's weight ends in the energy ledger. The per-event rules (free flight,
+// absorption mode, storage, scattering angles, limits) are EventPhysics's (event_physics.hpp),
+// shared with LaneTracer, which schedules photons in SIMD lanes.
 //
 // Parallel and reproducible: photon i draws only from its own counter-based stream
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
@@ -22,6 +24,7 @@
 #include "secchi/scene/surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/transport/blocks.hpp"
+#include "secchi/transport/event_physics.hpp"
 #include "secchi/transport/irradiance_planes.hpp"
 #include "secchi/transport/ledger.hpp"
 #include "secchi/transport/parallel.hpp"
@@ -76,12 +79,17 @@ struct BlockResult {
 template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky>
 class PhotonTracer {
 public:
+    using medium_type = M;
+    using record_type = Record;
+    using surface_type = Surface;
+    using source_type = Source;
+
     /// The photons come from `source` (scene/source.hpp).
     PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
                  TransportSettings settings)
         : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
           planes_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
-          continuous_(s_.absorption == AbsorptionMode::continuous), importance_on_(s_.importance.enabled()),
+          physics_(s_, slab.floor_depth()), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
         if (!std::isfinite(slab.floor_depth())) {
@@ -203,35 +211,28 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         return {stores, static_cast<std::uint8_t>(stores ? index * s_.batches / s_.map_photons : 0)};
     }
 
-    /// One photon in the water until it ends.
+    /// One photon in the water until it ends: free flights (event_physics.hpp) to the next
+    /// interaction, or to the surface or the floor.
     void follow(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, MapSlot slot,
                 std::vector<PhotonState>& pending) const {
-        // Free paths (manual eq. 3.17) use c, or b alone when absorption is continuous.
-        const Coefficient path_kind = continuous_ ? Coefficient::scattering : Coefficient::attenuation;
-        const double floor_depth = slab_.floor_depth();
-        const bool has_bottom = slab_.bottom().kind != BottomKind::none;
+        const Coefficient path_kind = physics_.path_coefficient();
         while (true) {
             if (importance_on_ && !change_level(p, rng, out.ledger, pending)) return;
             const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
-            const double z1 = p.pos.z + p.dir.z * s;
-            if (z1 < 0.0) {                               // reaches the surface from below
-                // The flight ends on the surface, z = 0 exactly (z + uz t would round to
-                // either side of it), so that a detector at depth 0 counts it (the half-open
-                // crossing rule of IrradiancePlanes::record).
-                fly(p, -p.pos.z / p.dir.z, 0.0, out);
-                if (!leave_or_reflect_at_surface(p, rng, out)) return;
-                continue;
-            }
-            if (z1 >= floor_depth) {                      // reaches the bottom / escape depth
-                const double t = (floor_depth - p.pos.z) / p.dir.z;
-                fly(p, t, p.pos.z + p.dir.z * t, out);
-                if (has_bottom) out.bottom_ed += p.w;
-                if (!reflect_at_bottom(p, rng, out.ledger)) return;
-                continue;
-            }
-            fly(p, s, z1, out);
-            if (!interact(p, rng, out, slot)) return;
+            const FreeFlight<double> f = physics_.free_flight(p.pos.z, p.dir.z, s);
+            fly(p, f.t, f.z1, out);
+            const bool goes_on = f.to_surface || f.to_floor ? meet_boundary(p, rng, out, f.to_surface)
+                                                            : interact(p, rng, out, slot);
+            if (!goes_on) return;
         }
+    }
+
+    /// A photon that flew to the surface (Fresnel reflection or escape) or to the floor (Ed at
+    /// the bottom; the bottom's reflection, or transmission). False if it leaves or ends.
+    bool meet_boundary(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool surface) const {
+        if (surface) return leave_or_reflect_at_surface(p, rng, out);
+        if (slab_.bottom().kind != BottomKind::none) out.bottom_ed += p.w;
+        return reflect_at_bottom(p, rng, out.ledger);
     }
 
     /// Splitting (deeper level) or Russian roulette (shallower level) to the photon's
@@ -284,7 +285,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         for (int hits = 1;; ++hits) {
             const bool from_air = side == Side::air;
             bool reflect;
-            if (from_air && s_.absorption != AbsorptionMode::analog && h.reflected.z < 0.0 && !coupled) {
+            if (from_air && !physics_.analog() && h.reflected.z < 0.0 && !coupled) {
                 const double reflected = p.w * h.reflectance;
                 left += reflected;  // expected value: the weight carries the transmittance
                 out.eu_air += reflected;
@@ -341,7 +342,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             ledger.transmitted += p.w;
             return false;
         }
-        if (s_.absorption != AbsorptionMode::analog) {
+        if (!physics_.analog()) {
             ledger.absorbed_bottom += p.w * (1.0 - b.albedo);
             p.w *= b.albedo;
         } else if (rng.uniform() >= b.albedo) {
@@ -361,60 +362,55 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// attenuating its weight by exp(-int a ds)).
     void fly(PhotonState& p, double s, double z1, detail::BlockResult<Record>& out) const {
         const Flight flight{p.pos.z, z1, p.dir.z, s, p.w};
-        if (continuous_) planes_.record(flight, medium_, out.tally.data());
+        if (physics_.continuous()) planes_.record(flight, medium_, out.tally.data());
         else planes_.record(flight, NoAbsorption{}, out.tally.data());
         p.pos += p.dir * s;
         p.pos.z = z1;
-        if (continuous_) {
+        if (physics_.continuous()) {
             const double w = p.w * std::exp(-medium_.optical_path(Coefficient::absorption, flight.z0, flight.uz, s));
             out.ledger.absorbed += p.w - w;
             p.w = w;
         }
     }
 
-    /// An interaction in the water: absorption or scattering by the albedo, storage of the
-    /// scattering event, a new direction from the phase function. False if the photon ends.
+    /// An interaction in the water (event_physics.hpp): the scattering-order limit, absorption
+    /// by the albedo, storage of the scattering event, a new direction from the phase function.
+    /// False if the photon ends.
     bool interact(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, MapSlot slot) const {
-        if (s_.max_order != 0 && p.order >= s_.max_order) {  // scattering-order limit (manual 3.3.8)
+        if (physics_.beyond_order(p.order)) {
             out.ledger.truncated += p.w;
             return false;
         }
         double w0;
         if constexpr (depth_independent<M>) w0 = w0_;
         else w0 = albedo_at(medium_, p.pos.z);
-        if (s_.absorption == AbsorptionMode::implicit_capture) {
-            out.ledger.absorbed += p.w * (1.0 - w0);
-            p.w *= w0;
-        } else if (s_.absorption == AbsorptionMode::analog && rng.uniform() >= w0) {
-            out.ledger.absorbed += p.w;
-            return false;
-        }  // continuous: every interaction scatters
+        const Absorption<double> a = physics_.absorb(p.w, physics_.absorption_draws() ? rng.uniform() : 0.0, w0);
+        out.ledger.absorbed += a.absorbed;
+        if (a.ends) return false;
+        p.w = a.w;
         if (slot.stores) store_event(p, rng, out, slot.batch);
         ++p.order;
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        const PhaseDirection ps = scattering_direction(medium_, p.pos.z, u1, u2);
-        p.dir = rotate_direction(p.dir, ps.cos_psi, ps.phi);
+        const double u_psi = rng.uniform(), u_phi = rng.uniform();
+        const ScatteringAngles<double> angles = EventPhysics::angles(medium_, p.pos.z, u_psi, u_phi);
+        p.dir = rotate_direction(p.dir, angles.cos_psi, angles.phi);
         return roulette(p, rng, out.ledger);
     }
 
-    /// Equal-flux storage (manual 3.3.6): the event is stored with probability w (every
-    /// record carries the flux Phi of an unweighted photon). With depth importance, the
-    /// expected number of copies is w I(z) and a record carries Phi / I(z) (importance.hpp).
-    /// Events below the map's depth (settings.map_depth) are not stored; they draw their
-    /// uniform all the same, so that the photon's later draws do not depend on that depth.
+    /// Stores the scattering event by the equal-flux rule (EventPhysics::keeps). With depth
+    /// importance, EventPhysics::copies records, each carrying Phi / I(z) (importance.hpp).
+    /// Events below the map's depth are not stored; they draw their uniform all the same, so
+    /// that the photon's later draws do not depend on that depth.
     void store_event(const PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out,
                      std::uint8_t map_batch) const {
         const Record rec = record_of(p, map_batch);
-        const bool kept_depth = p.pos.z <= s_.map_depth;
         if (!importance_on_) {
-            if ((s_.absorption == AbsorptionMode::analog || rng.uniform() < p.w) && kept_depth)
-                out.records.push_back(rec);
+            const double u = physics_.storage_draws() ? rng.uniform() : 0.0;
+            if (physics_.keeps(p.w, u, p.pos.z)) out.records.push_back(rec);
             return;
         }
         // The flux a record carries is set by its stored (rounded) depth: use the same here.
-        const double expected = p.w * levels_.factor(rec.position().z);
-        const double copies = std::floor(expected + rng.uniform());
-        if (!kept_depth) return;
+        const double copies = EventPhysics::copies(p.w, levels_.factor(rec.position().z), rng.uniform());
+        if (!physics_.in_map(p.pos.z)) return;
         for (double i = 0; i < copies; ++i) out.records.push_back(rec);
     }
 
@@ -428,7 +424,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// Russian roulette on the photon's weight (its cumulative survival probability),
     /// relative to its importance level (w I: the weight an unsplit photon would have).
     bool roulette(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        if (s_.roulette_weight == 0.0 || std::ldexp(p.w, p.level) >= s_.roulette_weight) return true;
+        if (!physics_.roulette_due(std::ldexp(p.w, p.level))) return true;
         if (rng.uniform() < s_.roulette_survival) {
             const double w = p.w / s_.roulette_survival;
             ledger.roulette_gained += w - p.w;
@@ -494,11 +490,24 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     Source source_;
     TransportSettings s_;
     IrradiancePlanes planes_;
-    bool continuous_, importance_on_;
+    EventPhysics physics_;  ///< the per-event rules of the settings
+    bool importance_on_;
     ImportanceLevels levels_;
     double w0_;  ///< the albedo of a depth-independent medium
     vec3 sun_direction_;                 ///< of the photons of the source's collimated beam
     std::optional<SurfaceHit> sun_hit_;  ///< their hit, where it is the same for all (a flat surface)
 };
+
+/// A first pass: built from a medium, the slab, a surface, a source and the settings, and run
+/// into a TransportResult (the records into the storage given, cleared first). PhotonTracer
+/// traces one photon at a time; LaneTracer (lane_tracer.hpp) schedules photons in SIMD lanes
+/// with the same per-event rules (event_physics.hpp).
+template <class T>
+concept FirstPassTracer =
+    std::constructible_from<T, const typename T::medium_type&, const Slab&, const typename T::surface_type&,
+                            const typename T::source_type&, TransportSettings> &&
+    requires(const T& tracer, std::vector<typename T::record_type> storage) {
+        { tracer.run(std::move(storage)) } -> std::same_as<TransportResult<typename T::record_type>>;
+    };
 
 }  // namespace secchi
