@@ -4,17 +4,18 @@
 // (io/material_medium.hpp, ADD_PHASE_FUNCTION_MODEL { TYPE = name ... }, DIRSIG manual 5.8)
 // look names up in, and from which their usage texts and error messages list the names.
 //
-//   name               aliases          command line    material file (defaults)
-//   isotropic          uniform          isotropic       (none)                      eq. 5.26
-//   rayleigh                            rayleigh        K2 (1), K1 (checked)        eq. 5.29
-//   petzold                             petzold         (none)          M93 Table 2, petzold.hpp
-//   petzold-trapezoid                   petzold-trapezoid (none)
-//   petzold-linear                      petzold-linear  (none)
-//   pure-water                          pure-water      (none)                      eq. 5.2
-//   hg                 hgpf             hg:G            G (0), W (1), lists         eq. 5.28
-//   schlick                             schlick:K       G (0), W (1), lists         eq. 5.28
-//   ff                 fournierforand   ff:BB           BB (0.0183), N (1.10)
-//   data                                (files only)    FILENAME, MUSAMPLES (0)     5.8.2
+//   name               aliases         command line        material file (defaults)   source
+//   isotropic          uniform         isotropic           -                          eq. 5.26
+//   rayleigh                           rayleigh (k2 = 1)   K2 (1), K1 (checked)       eq. 5.29
+//   petzold                            petzold             -                          M93 Table 2
+//   petzold-trapezoid                  petzold-trapezoid   -                          (petzold.hpp)
+//   petzold-linear                     petzold-linear      -
+//   pure-water                         pure-water          -                          eq. 5.2
+//   hg                 hgpf            hg:G                G (0), W (1): lists        eq. 5.28
+//   schlick                            schlick:K           G (0), W (1): lists        eq. 5.28
+//   ff                 fournierforand  ff:BB (N = 1.10)    BB (0.0183), N (1.10)      fournier_forand.hpp
+//   data                               (files only)        FILENAME, MUSAMPLES (0)    5.8.2
+// (equations: the DIRSIG manual's chapter 5.)
 // The canonical names are the command line's; the manual's TYPE names (uniform, hgpf, and
 // secchi's fournierforand) are aliases, accepted in both places. Each form builds what it
 // always built: on a command line "rayleigh" is RayleighPhase (k2 = 1 exactly, M93 problem 1)
