@@ -316,7 +316,8 @@ private:
     static AnyPhase phase_model(const std::string& type, ParameterReader& r) {
         const PhaseModel* model = find_named(phase_models(), type);
         if (!model || !model->in_file)
-            r.reject_value("TYPE", "unknown phase function model: " + must_be_one_of(phase_models(), file_phase_types()));
+            r.reject_value("TYPE", std::string("unknown phase function model: ")
+                                       .append(must_be_one_of(phase_models(), file_phase_types())));
         FileParameters parameters(r);
         return model->in_file(parameters);
     }
