@@ -34,10 +34,10 @@ namespace {
 
 using namespace secchi;
 
-constexpr const char* usage = R"(usage: canonical --problem 1a|1b|2a|2b|3|4|5|6|kirk|all|LIST [--photons N] --store kdtree|voi|voi-grid --seed S
+constexpr const char* usage_text = R"(usage: canonical --problem 1a|1b|2a|2b|3|4|5|6|kirk|all|LIST [--photons N] --store {stores} --seed S
                  --threads T --json FILE [--exr FILE] [--quick] [--material FILE [--material-entry ID|NAME]]
                  [--profile-csv FILE]
-                 [--tracer photon|lanes|lanes-float] [--facets projected-area|redraw]
+                 [--tracer {tracers}] [--facets {facets}]
                  [--aerosol-g G] [--aerosol-albedo W] [--aerosol-scale-height KM]
 Runs Mobley et al. 1993 problems 1 to 6 (sun at 60 deg, flat surface n = 1.34, black sky,
 infinitely deep water; problems 1 and 2 with c = 1 /m, problem 3 stratified at 500 nm,
@@ -67,7 +67,7 @@ photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 problems 2a, 2b, 3, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
 p linear in angle, p(0.1 deg) below 0.1 deg; the others are M93's power-law readings, for
 showing the sensitivity: canonical_problems.md, problem 2).
---tracer photon|lanes|lanes-float (default photon): lanes traces problems 1a, 2a, 4, 5 and 6 with
+--tracer {tracers} (default photon): lanes traces problems 1a, 2a, 4, 5 and 6 with
 LaneTracer (photons in SIMD lanes of doubles), lanes-float in lanes of floats; 1b and 2b (depth
 importance) and problem 3's stratified water are always traced by PhotonTracer.
 --problem kirk (also in all) checks the first pass against Kirk's AOP relations
@@ -590,6 +590,9 @@ void print_kirk_entries(const std::vector<Entry>& entries) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    const std::string usage = fill_usage(usage_text, {{"stores", store_usage()},
+                                                      {"tracers", usage_names(tracer_names())},
+                                                      {"facets", usage_names(facet_sampling_names())}});
     return run_program(argc, argv, "canonical", usage, [&] {
         const CommandLine cl(argc, argv,
                              {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material", "material-entry",

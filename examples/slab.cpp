@@ -8,18 +8,21 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <vector>
 
 namespace {
 
-constexpr const char* usage = R"(usage: slab --phase isotropic|rayleigh|petzold|petzold-trapezoid|petzold-linear|hg:G|schlick:K|ff:BB|pure-water --albedo W
+constexpr const char* usage_text = R"(usage: slab --phase {phases} --albedo W
             --sun-zenith DEG [--sky E | --source parametric-sky [--direct E --diffuse E]
             | --source atmosphere [--rayleigh-tau T --aerosol-tau T --aerosol-g G --aerosol-albedo W
-            --aerosol-scale-height KM]] --water-index N [--wind U [--slopes isotropic|cox-munk --wind-azimuth DEG]
-            | --slope-variance S2] [--facets projected-area|redraw]
+            --aerosol-scale-height KM]] --water-index N [--wind U [--slopes {slopes} --wind-azimuth DEG]
+            | --slope-variance S2] [--facets {facets}]
             [--bottom-depth TAU --bottom-albedo A]
-            --depths 0,1,5,10 --photons N --seed S --threads T --store kdtree|voi|voi-grid
+            --depths 0,1,5,10 --photons N --seed S --threads T --store {stores}
             [--radius R] [--steps K] --json FILE
-Depths and lengths are optical (c = 1 /m). Defaults:
+Phase functions (--phase NAME, or NAME:X with the parameter X; the same names are a material
+file's ADD_PHASE_FUNCTION_MODEL TYPEs):
+{phase-table}Depths and lengths are optical (c = 1 /m). Defaults:
   --phase petzold  --albedo 0.9  --sun-zenith 60  --water-index 1.34 (1.0: no interface)
   --sky 0 (a uniform sky of this downward plane irradiance beside the sun's E_perp = 1;
            0: a black sky, as in M93's problems)
@@ -35,7 +38,7 @@ Depths and lengths are optical (c = 1 /m). Defaults:
   --threads 1  --batches 32  --store voi  --radius 0.05  --steps 64  --omega 0.005 (sr)
   --ray-transmittance 1e-4 (Lu's rays end where their transmittance falls to this, or at
                the bottom)  --ray-grid 10 (10 x 10 vertical rays per depth)  --section-width 1
-  --cone-peak transmitted|averaged (default transmitted: the phase function's peak within the
+  --cone-peak {cone-peaks} (default transmitted: the phase function's peak within the
                collection cone travels on along the ray; averaged: the manual's eq. 3.5)
   --absorption continuous|implicit|analog (default continuous: free paths from b, weight
                exp(-a s) along each flight; implicit: weight x w0 per collision; analog)
@@ -47,7 +50,7 @@ Depths and lengths are optical (c = 1 /m). Defaults:
                0.00192 U across it, the wind blowing towards DEG (default 0: +x);
                --facets projected-area (default: facets met in proportion to the area they
                show the photon, M93's weighting) or redraw (the manual's DIRSIG)
-  --tracer photon|lanes|lanes-float (default photon; lanes: photons in SIMD lanes, the same
+  --tracer {tracers} (default photon; lanes: photons in SIMD lanes, the same
                estimates, faster when built for AVX2 or better, e.g. -march=native;
                lanes-float: in float lanes, twice as many per vector)
 )";
@@ -105,21 +108,32 @@ void write_json(const secchi::PlaneParallelResult& r, const std::string& path) {
     j.end_object();
 }
 
+/// How --wind sets the facet slopes: Cox and Munk's isotropic fit or their anisotropic one.
+enum class SlopeModel { isotropic, cox_munk };
+
+const std::vector<secchi::NamedValue<SlopeModel>>& slope_model_names() {
+    static const std::vector<secchi::NamedValue<SlopeModel>> names{
+        {{"isotropic", {}, "sigma^2 = 0.003 + 0.00512 U in every direction"}, SlopeModel::isotropic},
+        {{"cox-munk", {}, "0.00316 U along the wind, 0.003 + 0.00192 U across it"}, SlopeModel::cox_munk},
+    };
+    return names;
+}
+
 /// The surface's facet slopes: none (flat) without --wind or --slope-variance.
 secchi::FacetSlopes facet_slopes(const secchi::CommandLine& cl) {
     using secchi::FacetSlopes;
     if (cl.has("wind") && cl.has("slope-variance"))
         secchi::reject("--slope-variance", cl.text("slope-variance"), "conflicts with --wind (give one of them)");
     const std::string kind = cl.text("slopes", "isotropic");
-    if (kind != "isotropic" && kind != "cox-munk") secchi::reject("--slopes", kind, "must be isotropic or cox-munk");
-    if (kind == "cox-munk" && !cl.has("wind")) secchi::reject("--slopes", kind, "needs --wind");
-    if (cl.has("wind-azimuth") && kind != "cox-munk")
+    const SlopeModel model = secchi::parse_named(slope_model_names(), "--slopes", kind);
+    if (model == SlopeModel::cox_munk && !cl.has("wind")) secchi::reject("--slopes", kind, "needs --wind");
+    if (cl.has("wind-azimuth") && model != SlopeModel::cox_munk)
         secchi::reject("--wind-azimuth", cl.text("wind-azimuth"), "needs --slopes cox-munk");
     if (cl.has("slope-variance")) return FacetSlopes::isotropic(cl.number("slope-variance", 0));
     if (!cl.has("wind")) return {};
     const double wind = cl.number("wind", 0);
-    return kind == "cox-munk" ? FacetSlopes::cox_munk(wind, cl.number("wind-azimuth", 0.0))
-                              : FacetSlopes::isotropic_at_wind(wind);
+    return model == SlopeModel::cox_munk ? FacetSlopes::cox_munk(wind, cl.number("wind-azimuth", 0.0))
+                                         : FacetSlopes::isotropic_at_wind(wind);
 }
 
 secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
@@ -174,6 +188,13 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    const std::string usage = secchi::fill_usage(usage_text, {{"phases", secchi::phase_usage()},
+                                                              {"phase-table", secchi::phase_help()},
+                                                              {"stores", secchi::store_usage()},
+                                                              {"slopes", secchi::usage_names(slope_model_names())},
+                                                              {"facets", secchi::usage_names(secchi::facet_sampling_names())},
+                                                              {"cone-peaks", secchi::usage_names(secchi::cone_peak_names())},
+                                                              {"tracers", secchi::usage_names(secchi::tracer_names())}});
     return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
                                      {"phase", "albedo", "sun-zenith", "sky", "source", "direct", "diffuse", "rayleigh-tau",

@@ -360,11 +360,6 @@ TEST_CASE("canonical Petzold: all 55 nodes, p linear in angle, flat below 0.1 de
     for (const auto& node : t)
         CHECK(p.eval(std::cos(node.angle_deg * deg)) * p.raw_integral() == Approx(node.value).epsilon(1e-9));
     CHECK(p.eval(std::cos(0.05 * deg)) == Approx(p.eval(std::cos(0.1 * deg))).epsilon(1e-6));
-    // The names select the readings.
-    CHECK(petzold_reading("petzold") == PetzoldReading::canonical);
-    CHECK(petzold_reading("petzold-trapezoid") == PetzoldReading::trapezoid);
-    CHECK(petzold_reading("petzold-linear") == PetzoldReading::linear);
-    CHECK(!petzold_reading("petzold-linear-flat"));
 }
 
 TEST_CASE("cone average with the forward peak transmitted: the rest of p averaged, the peak's share reported") {

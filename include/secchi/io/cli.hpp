@@ -5,11 +5,14 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace secchi {
@@ -105,6 +108,18 @@ private:
     }
     std::map<std::string, std::string> values_;
 };
+
+/// `text` with every "{key}" replaced by its value: a usage text whose lists of names come
+/// from the registries (e.g. {"phases", phase_usage()}), so that it lists what the parsers accept.
+inline std::string fill_usage(std::string text, std::initializer_list<std::pair<std::string_view, std::string>> lists) {
+    for (const auto& [key, value] : lists) {
+        std::string placeholder("{");
+        placeholder.append(key).append("}");
+        for (auto at = text.find(placeholder); at != std::string::npos; at = text.find(placeholder, at + value.size()))
+            text.replace(at, placeholder.size(), value);
+    }
+    return text;
+}
 
 /// A program's main around body() (which returns the exit status): --help / -h prints the
 /// usage and exits 0; an input_error prints "<name>: <message>" and the usage on stderr and

@@ -13,14 +13,17 @@
 //       ADD_SCATTERING_MODEL     { TYPE = constant | specific | gordonmorel | kopelevich
 //                                         | buiteveld ... }                          (5.7)
 //       ADD_PHASE_FUNCTION_MODEL { TYPE = uniform | data | hgpf | schlick | rayleigh | petzold
-//                                         | petzold-trapezoid | petzold-linear
+//                                         | petzold-trapezoid | petzold-linear | pure-water
 //                                         | fournierforand ... SCATID = ... }        (5.8)
+//                                 (names and parameters: optics/phase/phase_names.hpp)
 //       REFRACTIVE_INDEX_MODEL   { TYPE = constant | iapws ... }                   (5.9)
 //     }
 //   }
 // Parameter names and defaults are the manual's tables (see each model's header). Beyond the
 // manual: bricaud1995 / bricaud1998 (CONCID; bricaud1998 FRACTION = particles|phytoplankton),
-// cdom (A440, REFWL, S) and fournierforand (BB = b_b/b, N = 1.10).
+// cdom (A440, REFWL, S), the phase functions fournierforand (BB = b_b/b, N = 1.10),
+// pure-water and the Petzold readings, and the command line's phase names (isotropic, hg, ff)
+// as aliases of the manual's.
 // Cross-references: CONCID names an ADD_CONCENTRATION_MODEL's ID, ABSID an absorption model's,
 // SCATID a scattering model's; each must exist (and a scattering model takes at most one
 // phase function; one without gets the uniform one). A gordonmorel model with EXCLUSIVE = 1
@@ -35,8 +38,7 @@
 #include "secchi/optics/iop/linear_model.hpp"
 #include "secchi/optics/iop/refractive_index.hpp"
 #include "secchi/optics/iop/scattering.hpp"
-#include "secchi/optics/phase/petzold.hpp"
-#include "secchi/optics/phase/tabulated_samples.hpp"
+#include "secchi/optics/phase/phase_names.hpp"
 #include <limits>
 #include <map>
 #include <optional>
@@ -291,25 +293,33 @@ private:
         r.finish();
     }
 
-    AnyPhase phase_model(const std::string& type, ParameterReader& r) {
-        if (type == "uniform") return IsotropicPhase{};
-        if (const auto reading = petzold_reading(type)) return petzold_m93(*reading);
-        if (type == "hgpf") return hg_mixture(r.numbers("G", {0.0}), r.numbers("W", {1.0}));
-        if (type == "schlick") return schlick_mixture(r.numbers("G", {0.0}), r.numbers("W", {1.0}));
-        if (type == "rayleigh") {
-            const double k2 = r.number("K2", 1.0);
-            const auto k1 = r.optional_number("K1");
-            return k1 ? RayleighLikePhase::from_k1_k2(*k1, k2) : RayleighLikePhase(k2);
+    /// A phase model's parameters, read from the section (optics/phase/phase_names.hpp).
+    class FileParameters final : public PhaseFileParameters {
+    public:
+        explicit FileParameters(ParameterReader& r) : r_(r) {}
+        double number(const std::string& name, double fallback) override { return r_.number(name, fallback); }
+        std::optional<double> optional_number(const std::string& name) override { return r_.optional_number(name); }
+        std::vector<double> numbers(const std::string& name, std::vector<double> fallback) override {
+            return r_.numbers(name, std::move(fallback));
         }
-        if (type == "fournierforand")
-            return FournierForandPhase::from_backscatter_fraction(r.number("BB", 0.0183), r.number("N", 1.10));
-        if (type == "data") {
-            const auto data = read_spectral_file(r.file("FILENAME"));
-            if (r.flag("MUSAMPLES", false)) return tabulated_from_mu_samples(data.wavelength_nm, data.value);
-            return tabulated_from_theta_samples(data.wavelength_nm, data.value);
+        bool flag(const std::string& name, bool fallback) override { return r_.flag(name, fallback); }
+        std::pair<std::vector<double>, std::vector<double>> columns(const std::string& name) override {
+            auto data = read_spectral_file(r_.file(name));
+            return {std::move(data.wavelength_nm), std::move(data.value)};
         }
-        r.reject_value("TYPE", "unknown phase function model (uniform, data, hgpf, schlick, rayleigh, petzold, "
-                               "petzold-trapezoid, petzold-linear, fournierforand)");
+
+    private:
+        ParameterReader& r_;
+    };
+
+    /// The registry's model named by TYPE (canonical name or alias), built from the section.
+    static AnyPhase phase_model(const std::string& type, ParameterReader& r) {
+        const PhaseModel* model = find_named(phase_models(), type);
+        if (!model || !model->in_file)
+            r.reject_value("TYPE", std::string("unknown phase function model: ")
+                                       .append(must_be_one_of(phase_models(), file_phase_types())));
+        FileParameters parameters(r);
+        return model->in_file(parameters);
     }
 
     void set_refractive_index(const MaterialSection& s) {

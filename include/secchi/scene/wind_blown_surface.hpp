@@ -18,11 +18,13 @@
 // FacetSampling::redraw is the manual's choice instead (7.6.5: draw from p, draw again while
 // the facet faces away; no projected area), which it reports beside M93's.
 #include "secchi/core/error.hpp"
+#include "secchi/core/names.hpp"
 #include "secchi/scene/fresnel.hpp"
 #include "secchi/scene/surface.hpp"
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace secchi {
 
@@ -31,11 +33,17 @@ enum class FacetSampling {
     redraw,          ///< p(z) alone, drawn again while the facet faces away (the manual's DIRSIG)
 };
 
-inline FacetSampling parse_facets(const std::string& name) {
-    if (name == "projected-area") return FacetSampling::projected_area;
-    if (name == "redraw") return FacetSampling::redraw;
-    reject("facets", name, "must be projected-area or redraw");
+/// The --facets names (core/names.hpp), in the order the usage texts list them.
+inline const std::vector<NamedValue<FacetSampling>>& facet_sampling_names() {
+    static const std::vector<NamedValue<FacetSampling>> names{
+        {{"projected-area", {}, "facets met in proportion to the area they show the photon (M93)"},
+         FacetSampling::projected_area},
+        {{"redraw", {}, "facets facing away drawn again (the manual's DIRSIG, 7.6.5)"}, FacetSampling::redraw},
+    };
+    return names;
 }
+
+inline FacetSampling parse_facets(const std::string& name) { return parse_named(facet_sampling_names(), "facets", name); }
 
 /// The variances of a surface's facet slopes along the wind and across it, and the wind's
 /// direction (the azimuth it blows towards, degrees from +x towards +y; only its axis matters).

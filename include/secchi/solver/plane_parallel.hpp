@@ -11,6 +11,7 @@
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
+#include "secchi/map/store_names.hpp"
 #include "secchi/transport/lane_tracer.hpp"
 #include "secchi/map/voi_grid.hpp"
 #include "secchi/map/voi_octree.hpp"
@@ -23,30 +24,9 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace secchi {
-
-enum class StoreKind { kdtree, voi, voi_grid, nanoflann, brute_force };
-
-inline std::string to_string(StoreKind k) {
-    switch (k) {
-        case StoreKind::kdtree: return "kdtree";
-        case StoreKind::voi: return "voi";
-        case StoreKind::voi_grid: return "voi-grid";
-        case StoreKind::nanoflann: return "nanoflann";
-        case StoreKind::brute_force: return "brute-force";
-    }
-    return "?";
-}
-
-inline StoreKind parse_store(const std::string& s) {
-    if (s == "kdtree") return StoreKind::kdtree;
-    if (s == "voi") return StoreKind::voi;
-    if (s == "voi-grid") return StoreKind::voi_grid;
-    if (s == "nanoflann") return StoreKind::nanoflann;
-    if (s == "brute-force") return StoreKind::brute_force;
-    reject("store", s, "must be kdtree, voi, voi-grid, nanoflann or brute-force");
-}
 
 /// Which first pass traces the photons: PhotonTracer, or LaneTracer (photons in SIMD lanes;
 /// homogeneous water without depth importance; the same estimates, faster where the target
@@ -54,24 +34,35 @@ inline StoreKind parse_store(const std::string& s) {
 /// lanes, the photons' state rounded to float between events).
 enum class TracerKind { photon, lanes, float_lanes };
 
-inline TracerKind parse_tracer(const std::string& s) {
-    if (s == "photon") return TracerKind::photon;
-    if (s == "lanes") return TracerKind::lanes;
-    if (s == "lanes-float") return TracerKind::float_lanes;
-    reject("tracer", s, "must be photon, lanes or lanes-float");
+/// The --tracer names (core/names.hpp), in the order the usage texts list them.
+inline const std::vector<NamedValue<TracerKind>>& tracer_names() {
+    static const std::vector<NamedValue<TracerKind>> names{
+        {{"photon", {}, "PhotonTracer, one photon at a time"}, TracerKind::photon},
+        {{"lanes", {}, "LaneTracer, photons in SIMD lanes of doubles"}, TracerKind::lanes},
+        {{"lanes-float", {}, "LaneTracer in lanes of floats, twice as many per vector"}, TracerKind::float_lanes},
+    };
+    return names;
 }
+
+inline TracerKind parse_tracer(const std::string& s) { return parse_named(tracer_names(), "tracer", s); }
 
 /// The light source of a plane-parallel problem (scene/source.hpp): a collimated sun (E_perp = 1)
 /// and a uniform sky at the surface, a parametric sky (sun disk and Harrison-Coombes sky) at
 /// the surface, or a traced atmosphere above it (E_perp = 1 at its top).
 enum class SourceKind { sun_and_sky, parametric_sky, atmosphere };
 
-inline SourceKind parse_source(const std::string& s) {
-    if (s == "sun") return SourceKind::sun_and_sky;
-    if (s == "parametric-sky") return SourceKind::parametric_sky;
-    if (s == "atmosphere") return SourceKind::atmosphere;
-    reject("source", s, "must be sun, parametric-sky or atmosphere");
+/// The --source names (core/names.hpp), in the order the usage texts list them.
+inline const std::vector<NamedValue<SourceKind>>& source_names() {
+    static const std::vector<NamedValue<SourceKind>> names{
+        {{"sun", {}, "a collimated sun, E_perp = 1, and a uniform sky at the surface"}, SourceKind::sun_and_sky},
+        {{"parametric-sky", {}, "a 0.53 deg sun disk and Harrison and Coombes' clear sky at the surface"},
+         SourceKind::parametric_sky},
+        {{"atmosphere", {}, "a traced plane-parallel atmosphere, E_perp = 1 at its top"}, SourceKind::atmosphere},
+    };
+    return names;
 }
+
+inline SourceKind parse_source(const std::string& s) { return parse_named(source_names(), "source", s); }
 
 struct PlaneParallelConfig {
     double attenuation = 1.0;      ///< c (1/m); depths are in metres, so tau = c z

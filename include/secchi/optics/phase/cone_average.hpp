@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "secchi/core/error.hpp"
+#include "secchi/core/names.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
 namespace secchi {
@@ -49,11 +50,16 @@ namespace secchi {
 /// with the rest (the manual's eq. 3.5) or transmitted along the ray (see above).
 enum class ConePeak { transmitted, averaged };
 
-inline ConePeak parse_cone_peak(const std::string& name) {
-    if (name == "transmitted") return ConePeak::transmitted;
-    if (name == "averaged") return ConePeak::averaged;
-    reject("cone peak", name, "must be transmitted or averaged");
+/// The --cone-peak names (core/names.hpp), in the order the usage texts list them.
+inline const std::vector<NamedValue<ConePeak>>& cone_peak_names() {
+    static const std::vector<NamedValue<ConePeak>> names{
+        {{"transmitted", {}, "the peak within the cone travels on along the ray"}, ConePeak::transmitted},
+        {{"averaged", {}, "the peak averaged with the rest of the cone (the manual's eq. 3.5)"}, ConePeak::averaged},
+    };
+    return names;
 }
+
+inline ConePeak parse_cone_peak(const std::string& name) { return parse_named(cone_peak_names(), "cone peak", name); }
 
 template <PhaseFunction P>
 class ConeAveragedPhase {

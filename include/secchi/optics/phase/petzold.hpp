@@ -8,7 +8,6 @@
 // (section 2, problem 2): PetzoldReading below.
 #include <array>
 #include <optional>
-#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -73,14 +72,6 @@ inline TabulatedPhase petzold_m93(PetzoldReading reading = PetzoldReading::canon
             break;
     }
     return TabulatedPhase(angle, value, TabulatedConvention::linear_p, petzold_m93_exponent, "petzold-linear");
-}
-
-/// The reading a name gives ("petzold", "petzold-trapezoid", "petzold-linear"), if it is one.
-inline std::optional<PetzoldReading> petzold_reading(std::string_view name) {
-    if (name == "petzold") return PetzoldReading::canonical;
-    if (name == "petzold-trapezoid") return PetzoldReading::trapezoid;
-    if (name == "petzold-linear") return PetzoldReading::linear;
-    return std::nullopt;
 }
 
 }  // namespace secchi
