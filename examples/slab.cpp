@@ -40,7 +40,7 @@ file's ADD_PHASE_FUNCTION_MODEL TYPEs):
                the bottom)  --ray-grid 10 (10 x 10 vertical rays per depth)  --section-width 1
   --cone-peak {cone-peaks} (default transmitted: the phase function's peak within the
                collection cone travels on along the ray; averaged: the manual's eq. 3.5)
-  --absorption continuous|implicit|analog (default continuous: free paths from b, weight
+  --absorption {absorptions} (default continuous: free paths from b, weight
                exp(-a s) along each flight; implicit: weight x w0 per collision; analog)
   --bottom-albedo 0 (with --bottom-depth: a Lambertian bottom)
   --wind U     (m/s; default: none, a flat surface) a wind-blown surface of Cox-Munk's
@@ -194,7 +194,8 @@ int main(int argc, char** argv) {
                                                               {"slopes", secchi::usage_names(slope_model_names())},
                                                               {"facets", secchi::usage_names(secchi::facet_sampling_names())},
                                                               {"cone-peaks", secchi::usage_names(secchi::cone_peak_names())},
-                                                              {"tracers", secchi::usage_names(secchi::tracer_names())}});
+                                                              {"tracers", secchi::usage_names(secchi::tracer_names())},
+                                                              {"absorptions", secchi::usage_names(secchi::absorption_names())}});
     return secchi::run_program(argc, argv, "slab", usage, [&] {
         const secchi::CommandLine cl(argc, argv,
                                      {"phase", "albedo", "sun-zenith", "sky", "source", "direct", "diffuse", "rayleigh-tau",

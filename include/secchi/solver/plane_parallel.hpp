@@ -10,7 +10,10 @@
 #include "secchi/estimate/radiance.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
+#if __has_include(<nanoflann.hpp>)  // the optional nanoflann adaptor (CMake: secchi::nanoflann)
 #include "secchi/map/nanoflann_store.hpp"
+#define SECCHI_HAS_NANOFLANN 1
+#endif
 #include "secchi/map/store_names.hpp"
 #include "secchi/transport/lane_tracer.hpp"
 #include "secchi/map/voi_grid.hpp"
@@ -277,7 +280,13 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
         };
         switch (cfg.store) {
             case StoreKind::kdtree: run(std::type_identity<KdTreeStore<Record>>{}, spheres); break;
-            case StoreKind::nanoflann: run(std::type_identity<NanoflannStore<Record>>{}, spheres); break;
+            case StoreKind::nanoflann:
+#if SECCHI_HAS_NANOFLANN
+                run(std::type_identity<NanoflannStore<Record>>{}, spheres);
+                break;
+#else
+                reject("store", "nanoflann", "needs nanoflann.hpp (nanoflann 1.4), which this build did not find");
+#endif
             case StoreKind::voi: run(std::type_identity<VoiOctreeStore<Record>>{}, cylinder); break;
             case StoreKind::voi_grid: run(std::type_identity<VoiGridStore<Record>>{}, cylinder, Radius(cfg.radius)); break;
             case StoreKind::brute_force: run(std::type_identity<BruteForceStore<Record>>{}, cylinder); break;

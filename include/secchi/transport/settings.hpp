@@ -2,6 +2,7 @@
 // Settings of the first pass (manual 3.3): photon budget, seed, threads, batches, detector
 // depths, and how absorption and long histories are handled.
 #include "secchi/core/error.hpp"
+#include "secchi/core/names.hpp"
 #include "secchi/transport/importance.hpp"
 #include <cmath>
 #include <cstdint>
@@ -25,11 +26,18 @@ namespace secchi {
 ///    far less skewed contributions than with a factor w0 per collision.
 enum class AbsorptionMode { analog, implicit_capture, continuous };
 
+/// The --absorption names (core/names.hpp), in the order the usage texts list them.
+inline const std::vector<NamedValue<AbsorptionMode>>& absorption_names() {
+    static const std::vector<NamedValue<AbsorptionMode>> names{
+        {{"continuous", {}, "free paths from b, weight exp(-a s) along each flight"}, AbsorptionMode::continuous},
+        {{"implicit", {"implicit-capture"}, "weight x w0 at each interaction"}, AbsorptionMode::implicit_capture},
+        {{"analog", {}, "absorbed with probability 1 - w0 at each interaction"}, AbsorptionMode::analog},
+    };
+    return names;
+}
+
 inline AbsorptionMode parse_absorption(const std::string& name) {
-    if (name == "analog") return AbsorptionMode::analog;
-    if (name == "implicit") return AbsorptionMode::implicit_capture;
-    if (name == "continuous") return AbsorptionMode::continuous;
-    reject("absorption", name, "must be continuous, implicit or analog");
+    return parse_named(absorption_names(), "absorption", name);
 }
 
 struct TransportSettings {
