@@ -1,13 +1,14 @@
 #pragma once
 // Invalid input is an exception naming the parameter, the value and where it came from
 // (a file:line of the user's input, or the source location of the check). Never a silent NaN.
+#include "secchi/core/config.hpp"
 #include <source_location>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// Thrown for every invalid input: bad coefficient, |g| >= 1, malformed table or file, ...
 class input_error : public std::invalid_argument {

@@ -3,13 +3,14 @@
 // images are made of (estimate/render.hpp, estimate/radiance_distribution.hpp) and what
 // io/exr.hpp writes. Row 0 is the image's top; pixel (x, y) of channel c is at
 // channels[c].pixels[y * width + x].
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <cstddef>
 #include <deque>
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct ImageChannel {
     std::string name;

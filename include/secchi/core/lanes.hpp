@@ -20,6 +20,7 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
+#include "secchi/core/config.hpp"
 #include <experimental/simd>
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
@@ -39,7 +40,7 @@
 #include <immintrin.h>
 #endif
 
-namespace secchi::lanes {
+namespace secchi::SECCHI_ISA::lanes {
 
 namespace stdx = std::experimental;
 /// The target's native vector of T (double or float).

@@ -1,6 +1,7 @@
 #pragma once
 // Vectors through GLM, constants, and the per-event kernels: sin_cos for the azimuth, exp_table
 // for transmittances, and the frame rotation every scattering event needs.
+#include "secchi/core/config.hpp"
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -16,7 +17,7 @@
 #define SECCHI_KERNEL inline
 #endif
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 using vec3 = glm::dvec3;   ///< positions and directions during transport (z positive down)
 using vec3f = glm::vec3;   ///< compact storage

@@ -4,6 +4,7 @@
 // the usage texts' "a|b|c" and the error messages' "a, b or c" all read the family's one table,
 // so the command lines, the material files, the usage texts and the errors cannot drift apart.
 // A family is a range of entries, each with a member `naming` (a Naming).
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <string>
 #include <string_view>
@@ -11,7 +12,7 @@
 
 #include "secchi/core/error.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct Naming {
     std::string_view name;                  ///< the canonical spelling

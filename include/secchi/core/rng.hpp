@@ -3,10 +3,11 @@
 // as easy as 1, 2, 3", SC'11). One independent stream per photon, keyed by (seed, photon
 // index), so a photon's history does not depend on which thread traced it: results are
 // bit-identical for any thread count.
+#include "secchi/core/config.hpp"
 #include <array>
 #include <cstdint>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// One Philox4x32-10 block: ten rounds of the bijection on the 128-bit counter `x` under the
 /// 64-bit key `k` (Salmon et al. 2011, section 3.3). Branch-free, so a loop over photons in

@@ -1,12 +1,13 @@
 #pragma once
 // The spectral band list: band centres in nm; a photon carries its band as a 1-byte index
 // (manual 3.3.2.5), so at most 256 bands.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 using band_index = std::uint8_t;
 

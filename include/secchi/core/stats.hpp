@@ -2,10 +2,11 @@
 // Every Monte Carlo output carries its standard error from independent batches: photons are
 // split into B batches by photon index; the estimate is the mean of the batch means and its
 // standard error is their sample standard deviation / sqrt(B) (design notes; B >= 16).
+#include "secchi/core/config.hpp"
 #include <cmath>
 #include <span>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct Estimate {
     double value = 0.0;

@@ -1,10 +1,11 @@
 #pragma once
 // Strong types for quantities that are easy to confuse. A collection radius is never a bare
 // float that might already be squared (nanoflann's L2 metric works in squared distances).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// A search / collection radius in metres (plain, not squared).
 class Radius {

@@ -4,12 +4,13 @@
 // (made perpendicular to forward), a vertical field of view `fov_deg` and width x height
 // pixels of square aspect. Pixel (x, y), row y = 0 at the top, is sampled at (x + u, y + v)
 // for u, v in [0, 1) (0.5, 0.5: its centre).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/map/store.hpp"
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct PinholeCameraSpec {
     vec3 position{0.5, 0.5, 5.0};

@@ -19,6 +19,7 @@
 // and around any ray in a periodic section, gather(store, ray, r, section, visit) (periodic_ray.hpp:
 // the unwrapped ray's volume from the section's photons and their images; distances along the
 // unwrapped ray).
+#include "secchi/core/config.hpp"
 #include "secchi/estimate/periodic_ray.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/store.hpp"
@@ -27,7 +28,7 @@
 #include <string>
 #include <type_traits>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The visitor signature collection volumes call (used to check the concept).
 struct CollectionVisitorArchetype {

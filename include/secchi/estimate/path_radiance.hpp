@@ -30,6 +30,7 @@
 // (Built per accumulate() call, they would make a short ray of ~60 photons 4 times as slow:
 // docs/design-notes.md.) The result is bit-identical to the per-photon formula
 // (see detail::vertical_cosines for why); optics without the tabulated form, other records and other rays take the per-photon formula.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/stats.hpp"
@@ -53,7 +54,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct RadianceEstimate {
     Estimate radiance;

@@ -14,6 +14,7 @@
 //    queried with the region moved by s: a stored photon q found there lies, unwrapped, at
 //    q - s + (the piece's cell offset). With the region within W/2 of the section (collection
 //    radius r < W/2), these shifts reach every photon in it, each image once.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
@@ -22,7 +23,7 @@
 #include <limits>
 #include <string>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The horizontal section [0, W)^2 of a periodic water body (scene/slab.hpp: Slab::width()).
 class PeriodicSection {

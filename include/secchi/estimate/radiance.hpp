@@ -41,6 +41,7 @@
 // Threads: built once, then radiance(), add() and direct_sun() may be called from any number of
 // threads at once; average() runs its rays in parallel and merges in ray order (bit-identical
 // for any thread count).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/path_radiance.hpp"
@@ -54,7 +55,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct RadianceSettings {
     /// An in-water ray that meets no boundary integrates its path radiance until its

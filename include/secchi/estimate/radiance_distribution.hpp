@@ -20,6 +20,7 @@
 //     Var(mean) = s_g^2 / G + s_b^2 / B - s_e^2 / (G B)
 // with s_g^2, s_b^2 the variances of the group means and of the batch means and s_e^2 the
 // residual variance, plus the bottom term's shared SE.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/image.hpp"
 #include "secchi/core/rng.hpp"
@@ -33,7 +34,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// How irradiances_from_map samples directions.
 struct DirectionSampling {

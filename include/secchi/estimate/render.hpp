@@ -6,6 +6,7 @@
 // G and B equal to L, so that any EXR viewer shows it as grey. The direct sun (a delta) is not
 // in the image. Pixels are independent: rows run in parallel, each pixel's jitter from its own
 // random stream, so the image is the same for any thread count.
+#include "secchi/core/config.hpp"
 #include "secchi/core/image.hpp"
 #include "secchi/core/rng.hpp"
 #include "secchi/estimate/camera.hpp"
@@ -15,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct RenderSettings {
     unsigned samples_per_pixel = 1;  ///< 1: the pixel's centre; more: jittered over the pixel

@@ -1,6 +1,7 @@
 #pragma once
 // A small command-line reader for the example programs: --name value options, typed
 // getters with defaults, and a usage error (exit status 2) naming the option and value.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <charconv>
 #include <cmath>
@@ -15,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class CommandLine {
 public:

@@ -3,6 +3,7 @@
 // ZIP-compressed, row 0 at the top (OpenEXR's increasing-y line order). Needs OpenEXR 3
 // (link secchi::exr in CMake). A file that cannot be written or read raises input_error
 // naming it.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/image.hpp"
 #include <OpenEXR/ImfChannelList.h>
@@ -13,7 +14,7 @@
 #include <exception>
 #include <string>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 inline void write_exr(const Image& image, const std::string& path) {
     try {

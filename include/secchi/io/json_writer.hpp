@@ -1,13 +1,14 @@
 #pragma once
 // A minimal streaming JSON writer for result files (objects, arrays, numbers, strings).
 // Numbers are written with 17 significant digits so files compare bit for bit.
+#include "secchi/core/config.hpp"
 #include <cmath>
 #include <cstdio>
 #include <ostream>
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class JsonWriter {
 public:

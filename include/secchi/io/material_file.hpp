@@ -17,6 +17,7 @@
 // resolved relative to the material file's directory.
 // Every error is a secchi::input_error naming the file:line, and where relevant the section and
 // the parameter.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <algorithm>
 #include <cctype>
@@ -33,7 +34,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi::io {
+namespace secchi::SECCHI_ISA::io {
 
 /// Where a section or parameter was written: the file name as given and its 1-based line.
 struct SourceLocation {

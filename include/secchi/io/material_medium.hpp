@@ -30,6 +30,7 @@
 // removes every other scattering model, the base medium's included.
 // Every error names the file, line, section and parameter. SIGMA noise is keyed by the run's
 // seed and the model's position in the file (optics/iop/noise.hpp).
+#include "secchi/core/config.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/io/material_file.hpp"
 #include "secchi/optics/iop/absorption.hpp"
@@ -43,7 +44,7 @@
 #include <map>
 #include <optional>
 
-namespace secchi::io {
+namespace secchi::SECCHI_ISA::io {
 
 namespace detail {
 

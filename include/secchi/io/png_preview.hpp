@@ -5,6 +5,7 @@
 // (ISO/IEC 15948: signature, IHDR, one zlib-compressed IDAT of filter-0 rows, IEND; CRC-32
 // and deflate from zlib). The numbers live in the OpenEXR file; this is a picture of them.
 // Needs zlib (a dependency of OpenEXR; link secchi::exr).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/image.hpp"
 #include <zlib.h>
@@ -15,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct PreviewScale {
     double percentile = 0.995;  ///< this quantile of the channel maps to white ...

@@ -1,9 +1,10 @@
 #pragma once
 // The brute-force store: tests every record. The oracle the other stores are tested against.
+#include "secchi/core/config.hpp"
 #include "secchi/map/store.hpp"
 #include <utility>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <PhotonRecord Record>
 class BruteForceStore {

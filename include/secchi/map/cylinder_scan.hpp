@@ -28,6 +28,7 @@
 // cannot fuse and to rounding where it can.
 //
 // Speed against the portable loops: docs/design-notes.md ("VOI leaf scan").
+#include "secchi/core/config.hpp"
 #include "secchi/map/store.hpp"
 #include <array>
 #include <cstddef>
@@ -47,7 +48,7 @@
 #define SECCHI_CYLINDER_SCAN_AVX512 0
 #endif
 
-namespace secchi::detail {
+namespace secchi::SECCHI_ISA::detail {
 
 /// A record the scan can read: 16 bytes, standard layout, position floats x, y, z at 0, 4, 8.
 template <class R>

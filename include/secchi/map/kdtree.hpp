@@ -29,6 +29,7 @@
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once (queries only read the store).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/map/search_support.hpp"
 #include "secchi/map/store.hpp"
@@ -42,7 +43,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <PhotonRecord Record>
 class KdTreeStore {

@@ -31,6 +31,7 @@
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once (nanoflann's findNeighbors is const and keeps its
 // state on the caller's stack).
+#include "secchi/core/config.hpp"
 #include "secchi/map/search_support.hpp"
 #include <array>
 #include <cmath>
@@ -41,7 +42,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 namespace detail {
 
 /// nanoflann's dataset adaptor: the records' positions in double precision.

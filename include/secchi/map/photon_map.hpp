@@ -17,6 +17,7 @@
 // const members and run estimators on it at once. The map owns its store and scene; an estimator
 // refers to the map, and the estimators' constructors refuse a temporary map (deleted rvalue
 // overloads), so no estimator can outlive a map it was built from in one expression.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/scene/flat_surface.hpp"
@@ -32,7 +33,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The scene a map's photons were traced in, as the second pass sees it.
 struct MapScene {

@@ -4,6 +4,7 @@
 // scattered-flux density per unit volume, W m^-3 nm^-1 (each record's flux, RecordFlux::at(z),
 // over the bin's volume: dx dz times the section's width in y). One channel "Y", row 0 at the
 // surface, depth increasing downward to `depth`; photons deeper are not shown.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/image.hpp"
 #include "secchi/map/photon_map.hpp"
@@ -11,7 +12,7 @@
 #include <cmath>
 #include <ranges>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <std::ranges::input_range Records>
 Image project_photon_map(const Records& records, const RecordFlux& flux, double section_width, double depth,

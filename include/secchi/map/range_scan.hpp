@@ -15,6 +15,7 @@
 // only the first 4 KiB of the next range (leads of 1-16 KiB alike within the noise) and leaves
 // the octree's (leaves of <= 128 records) unchanged within the noise (Zen 5;
 // docs/design-notes.md). The octree's tuning: voi_octree.hpp.
+#include "secchi/core/config.hpp"
 #include "secchi/map/cylinder_scan.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
@@ -25,7 +26,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace secchi::detail {
+namespace secchi::SECCHI_ISA::detail {
 
 /// A record whose position() is its three float members x, y, z (CompactRecord): a leaf scan
 /// copies them as floats (exact in double), a plain strided load the compiler vectorises.

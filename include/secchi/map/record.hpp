@@ -7,6 +7,7 @@
 //    batch index (the independent batch the photon belongs to, for standard errors; up to 64)
 //    and two bits a store may use (the k-d tree keeps its split axis there, as Jensen does).
 //  - FullRecord: double position and direction; the reference the compact one is tested against.
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/spectral.hpp"
 #include <algorithm>
@@ -15,7 +16,7 @@
 #include <concepts>
 #include <cstdint>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <class R>
 concept PhotonRecord = std::copyable<R> && requires(const R r, vec3 p, vec3 d, band_index b, std::uint8_t batch) {

@@ -6,13 +6,14 @@
 // vectors by the guess-and-correct of detail::encode_theta and encode_phi (record.hpp), with
 // the table lookups of the correction only where a guess is near a bin boundary; the bytes
 // equal make()'s (tests/test_lane_tracer.cpp).
+#include "secchi/core/config.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/map/record.hpp"
 #include <bit>
 #include <cstring>
 
 #if SECCHI_HAS_LANES
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <class Record>
 struct LaneRecords {

@@ -2,6 +2,7 @@
 // Search helpers shared by the photon stores (kdtree.hpp, nanoflann_store.hpp,
 // voi_octree.hpp): bounding boxes, the traversal stack, the rounding-safe pruning bounds, the
 // padded-segment slab test and the k-best list.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
@@ -13,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 namespace detail {
 
 inline constexpr double infinity = std::numeric_limits<double>::infinity();

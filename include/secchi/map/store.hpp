@@ -15,6 +15,7 @@
 //    distance from the ray.
 // A Collector is called with each Hit and returns false to stop the search early
 // (nanoflann's result-set idea); the query then returns false.
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/units.hpp"
 #include "secchi/map/record.hpp"
@@ -23,7 +24,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct Ray {
     vec3 origin;

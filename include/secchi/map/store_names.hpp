@@ -3,12 +3,13 @@
 // (parse_store), their usage texts (store_usage) and their error messages read:
 //   kdtree | voi | voi-grid | nanoflann | brute-force   (no aliases).
 // Which store and query each kind runs: solve_plane_parallel (solver/plane_parallel.hpp).
+#include "secchi/core/config.hpp"
 #include <string>
 #include <vector>
 
 #include "secchi/core/names.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 enum class StoreKind { kdtree, voi, voi_grid, nanoflann, brute_force };
 

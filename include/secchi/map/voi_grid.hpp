@@ -42,6 +42,7 @@
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
+#include "secchi/core/config.hpp"
 #include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
 #include <algorithm>
@@ -51,7 +52,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <PhotonRecord Record>
 class VoiGridStore {

@@ -68,6 +68,7 @@
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
+#include "secchi/core/config.hpp"
 #include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
 #include <array>
@@ -77,7 +78,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 namespace detail {
 
 /// Squared distance from p to the box [lo, hi] (0 inside).

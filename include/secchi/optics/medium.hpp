@@ -11,12 +11,13 @@
 //
 // HomogeneousWater is the constant-IOP medium of the canonical problems 1, 2 and 6;
 // StratifiedWater (stratified_water.hpp) the depth-varying one of problem 3.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 #include <cmath>
 #include <utility>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// Which coefficient a depth query is about.
 enum class Coefficient { absorption, scattering, attenuation };

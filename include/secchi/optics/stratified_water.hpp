@@ -22,6 +22,7 @@
 //
 // How finely a smooth model (e.g. a Gaussian chlorophyll profile) must be sampled is the
 // caller's choice: linear interpolation errs by at most h^2 max|k''| / 8 for node spacing h.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
@@ -32,7 +33,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// A depth profile of IOPs at nodes (see the header comment).
 struct DepthProfile {

@@ -4,6 +4,7 @@
 // atmosphere (M93 problem 4). A LightSource itself, each call going to the source it holds (one
 // dispatch per photon launched and per photon going up from the surface), so that a program
 // that lets its user choose compiles the first pass once.
+#include "secchi/core/config.hpp"
 #include "secchi/scene/atmosphere.hpp"
 #include "secchi/scene/parametric_sky.hpp"
 #include "secchi/scene/source.hpp"
@@ -11,7 +12,7 @@
 #include <string>
 #include <variant>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class AnySource {
 public:

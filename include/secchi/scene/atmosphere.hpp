@@ -27,6 +27,7 @@
 // Zero optical thickness is no atmosphere: the sun's beam arrives unscattered, no random
 // number is drawn, and light going up leaves (returns_light() is false), so the first pass is
 // exactly that of the sun alone at the surface (M93 problem 2) with E_perp at the top.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -36,7 +37,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The parameters of a TracedAtmosphere; the defaults are M93 problem 4's set-up with the
 /// choices stated in atmosphere.hpp's header.

@@ -2,11 +2,12 @@
 // The flat air-water surface at depth z = 0 (z positive down): unpolarised Fresnel
 // reflection and refraction both ways, total internal reflection from below. A water index
 // of exactly 1.0 means "no interface": nothing is reflected and directions are unchanged.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/scene/fresnel.hpp"
 #include "secchi/scene/surface.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class FlatSurface {
 public:

@@ -1,11 +1,12 @@
 #pragma once
 // Unpolarised Fresnel reflectance and Snell refraction at a flat interface
 // (Mobley 1994, "Light and Water", eq. 4.19-4.21; the manual ch. 2.5.4, eq. 2.28-2.29).
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include <algorithm>
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// Reflectance for unpolarised light arriving with cosine `cos_i` (> 0, measured from the
 /// normal on the incident side) going from index n1 into index n2. Total internal

@@ -28,6 +28,7 @@
 // cos(theta) / its largest value in the cone). So every photon carries the same flux, and
 // the pdf is exact for the sky as represented (quad_probability, quad_of): the quads'
 // radiance is the sky's, and the sun's disk is of uniform radiance.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/scene/source.hpp"
@@ -38,7 +39,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The parameters of a ParametricSky; the defaults are the manual's problem 4 (7.6.4).
 struct ParametricSkySpec {

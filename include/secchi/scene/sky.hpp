@@ -5,11 +5,12 @@
 // sends through a horizontal plane comes with direction density cos(theta) / pi per
 // steradian: cos(theta) = sqrt(u1), azimuth 2 pi u2. An irradiance of 0 is a black sky (M93's
 // canonical problems). E is in the units of the sun's E_perp (scene/sun.hpp).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class UniformSky {
 public:

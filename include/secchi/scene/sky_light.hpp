@@ -11,6 +11,7 @@
 //  - TracedAtmosphere: the sun's unscattered beam, exp(-tau / mu_s) of E_perp; the diffuse sky
 //    is what its photons scattered and is not known in closed form: sky_known() is false, and
 //    a ray that needs it is refused (estimate/radiance.hpp).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/scene/any_source.hpp"
@@ -18,7 +19,7 @@
 #include <functional>
 #include <utility>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// A collimated beam: direction of travel and irradiance on a plane perpendicular to it.
 struct DirectBeam {

@@ -8,11 +8,12 @@
 //    counted as transmitted and stop (an explicit cut-off, whose loss is the caller's to bound);
 //  - transparent at `depth`: a finite slab over nothing (photons leaving are transmitted);
 //  - Lambertian at `depth` with irradiance reflectance `albedo` (opaque).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 enum class BottomKind { none, transparent, lambertian };
 

@@ -20,11 +20,12 @@
 //    direction (marked `beam`): the tracer computes their surface hit once.
 // Models: SunAndSky (sun_and_sky.hpp), ParametricSky (parametric_sky.hpp), TracedAtmosphere
 // (atmosphere.hpp), and AnySource (any_source.hpp), one of them chosen at run time.
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/rng.hpp"
 #include <concepts>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// What becomes of a photon the source follows.
 enum class SourceFate {

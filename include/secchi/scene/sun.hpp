@@ -1,10 +1,11 @@
 #pragma once
 // A collimated sun in a black sky: irradiance E_perp on a plane perpendicular to its rays,
 // so the downward plane irradiance just above the surface is E_perp cos(zenith) (M93 sec. 3).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class CollimatedSun {
 public:

@@ -4,12 +4,13 @@
 // 1 at the surface). The photons share the incident plane irradiance E_sun + E_sky: a photon
 // comes from the sky with probability E_sky / (E_sun + E_sky) (one uniform, drawn only when the
 // sky is lit), else along the sun's beam. Light leaving the surface upward is gone.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/scene/sky.hpp"
 #include "secchi/scene/source.hpp"
 #include "secchi/scene/sun.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class SunAndSky {
 public:

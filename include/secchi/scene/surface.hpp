@@ -6,11 +6,12 @@
 // lets the photon meet the surface again while its direction points back across it (a
 // wind-blown surface's tilted facets can send light down into the air side or up into the
 // water side). Models: FlatSurface (flat_surface.hpp), WindBlownSurface (wind_blown_surface.hpp).
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/rng.hpp"
 #include <concepts>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The side of the surface a photon arrives from.
 enum class Side { air, water };

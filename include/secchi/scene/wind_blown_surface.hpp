@@ -17,6 +17,7 @@
 // photons stay unweighted) and the estimates are those of the weighting.
 // FacetSampling::redraw is the manual's choice instead (7.6.5: draw from p, draw again while
 // the facet faces away; no projected area), which it reports beside M93's.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/names.hpp"
 #include "secchi/scene/fresnel.hpp"
@@ -26,7 +27,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 enum class FacetSampling {
     projected_area,  ///< p(z) times the facet's area seen by the photon (M93's weighting, eq. 7.13)

@@ -6,6 +6,7 @@
 //   isotropic | rayleigh | petzold | petzold-trapezoid | petzold-linear | pure-water | hg:G
 //   | schlick:K | ff:BB   (and the aliases uniform, hgpf:G, fournierforand:BB).
 // AnyPhase, the variant of every phase type, is defined in optics/phase/any_phase.hpp.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/phase_names.hpp"
 #include <algorithm>
@@ -13,7 +14,7 @@
 #include <string>
 #include <variant>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// "isotropic|rayleigh|...|ff:BB": the --phase choices of a usage text.
 inline std::string phase_usage() { return join_names(cli_phase_spellings()); }

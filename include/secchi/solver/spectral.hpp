@@ -20,6 +20,7 @@
 // random streams are independent. The surface's refractive index is band 0's (a material's
 // n(lambda) changes by about 0.005 over 400-700 nm, 0.1 % of the Fresnel reflectance at
 // normal incidence).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/solver/plane_parallel.hpp"
 #include <chrono>
@@ -29,7 +30,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// A spectral run's first pass per band and its photon map of all bands.
 template <class Store>

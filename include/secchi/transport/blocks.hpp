@@ -6,6 +6,7 @@
 // block's chunks go back to a pool for the next blocks as soon as its records are copied:
 // the records are written into warm memory, and the map is built while tracing instead of
 // after it (peak memory about one map, not two).
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/spectral.hpp"
 #include <algorithm>
@@ -18,7 +19,7 @@
 #include <sys/mman.h>
 #endif
 
-namespace secchi::detail {
+namespace secchi::SECCHI_ISA::detail {
 
 /// Asks the kernel to back the whole 2 MiB pages inside [p, p + bytes) with transparent huge
 /// pages where it does so on request (Linux's "madvise" mode): the first touch of fresh map

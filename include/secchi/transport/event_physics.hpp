@@ -18,6 +18,7 @@
 //   limits       the scattering-order limit and the roulette threshold (3.3.8).
 // A `Real` is a double or float, or a SIMD vector of them; its mask (mask_of<Real>) is a bool
 // or the vector's mask, and select/any_lane work on both (core/math.hpp).
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/transport/settings.hpp"
@@ -27,7 +28,7 @@
 #include "secchi/core/lanes.hpp"
 #endif
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The mask of a Real: bool for a double or float, the vector's mask type for a SIMD vector.
 template <class Real>

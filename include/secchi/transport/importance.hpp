@@ -19,6 +19,7 @@
 //    without importance, but with I(z) times more photons at depth.
 //  - Roulette for low weights acts on w I (the photon's weight relative to its level).
 // mu_i = 0 turns it off (I = 1 everywhere): the default, and what problems 1, 2, 6 use.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/optics/medium.hpp"
 #include <algorithm>
@@ -26,7 +27,7 @@
 #include <numbers>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct DepthImportance {
     double cosine = 0.0;     ///< mu_i; 0 = off

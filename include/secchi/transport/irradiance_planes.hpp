@@ -13,6 +13,7 @@
 //    estimator's variance diverges logarithmically at mu = 0), and the bias is
 //    int_0^mu_c (2 mu/mu_c - 1) L(mu) dmu = L'(0) mu_c^2 / 6 per hemisphere, a relative
 //    ~mu_c^2 / 12 times |L'(0)| / L (< 2e-4 for mu_c = 0.05 and a radiance slope |L'(0)| <= L).
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
 #include <algorithm>
@@ -20,7 +21,7 @@
 #include <cmath>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 enum IrradianceKind : int { Ed = 0, Eu = 1, Eod = 2, Eou = 3 };
 using IrradianceTally = std::array<double, 4>;  ///< indexed by IrradianceKind

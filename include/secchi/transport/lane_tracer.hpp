@@ -36,12 +36,13 @@
 // every photon arriving (tested against the ledger). The tallies are summed in float per
 // lane for at most flush_steps steps, then in double. The canonical problems 1 and 2 come
 // out within 0.04 combined standard errors of the double lanes' (BENCHMARKS.md).
+#include "secchi/core/config.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/map/record_lanes.hpp"
 #include "secchi/transport/tracer.hpp"
 
 #if SECCHI_HAS_LANES
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// Real: the lanes' precision. double by default; float doubles the lanes per vector (8 with
 /// AVX2) for about 1.5 times the speed (BENCHMARKS.md), with positions,

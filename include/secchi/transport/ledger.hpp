@@ -7,7 +7,8 @@
 // scene/atmosphere.hpp) light going up from the surface is handed to it, so it ends in
 // to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under one that does
 // not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
-namespace secchi {
+#include "secchi/core/config.hpp"
+namespace secchi::SECCHI_ISA {
 
 struct EnergyLedger {
     double incident = 0;           ///< weight that the source emitted (at the surface, or at the top of an atmosphere)

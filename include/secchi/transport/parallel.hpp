@@ -2,6 +2,7 @@
 // A minimal parallel loop: `threads` workers take indices 0..n-1 from an atomic counter.
 // Callers write results into per-index slots and merge them in index order, so the result
 // never depends on which thread ran which index.
+#include "secchi/core/config.hpp"
 #include <atomic>
 #include <cstddef>
 #include <exception>
@@ -9,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <class F>
 void parallel_for(std::size_t n, unsigned threads, F&& body) {

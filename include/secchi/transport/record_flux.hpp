@@ -6,11 +6,12 @@
 // (transport/importance.hpp). The first pass writes this into its result, with the depth down
 // to which it stored events; the estimators take it from there, so that the normalisation is
 // the map's own and no optics policy can apply or forget it.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/transport/importance.hpp"
 #include <cmath>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct RecordFlux {
     double per_record = 0.0;             ///< Phi (W nm^-1): the flux of a record at importance 1

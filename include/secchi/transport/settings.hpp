@@ -1,6 +1,7 @@
 #pragma once
 // Settings of the first pass (manual 3.3): photon budget, seed, threads, batches, detector
 // depths, and how absorption and long histories are handled.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/names.hpp"
 #include "secchi/transport/importance.hpp"
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// How absorption is applied at an interaction (both unbiased):
 ///  - analog: the photon is absorbed with probability 1 - w0 and otherwise scattered (manual

@@ -14,6 +14,7 @@
 // Parallel and reproducible: photon i draws only from its own counter-based stream
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
 // order, so the output is bit-identical for any thread count.
+#include "secchi/core/config.hpp"
 #include "secchi/core/rng.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/map/record.hpp"
@@ -34,7 +35,7 @@
 #include <optional>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The plane irradiances just above the surface (z = 0+): the downward one, Ed(0+) = direct +
 /// diffuse, counted at every arrival of light from the air (light an atmosphere sends back

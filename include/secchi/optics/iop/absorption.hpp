@@ -11,6 +11,7 @@
 //
 // Tabulated models throw input_error for a wavelength outside their table (no extrapolation);
 // see SpectralTable.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/iop/data/phytoplankton.hpp"
@@ -22,7 +23,7 @@
 #include <optional>
 #include <utility>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 // ---------------------------------------------------------------------------------------------
 // Data tables as SpectralTables (names used in error messages)

@@ -15,6 +15,7 @@
 //
 // SIGMA (all models) is the Noise: value + N(0, sigma) at (x, lambda), clamped at zero.
 // ID (the model's name in its file) belongs to the composer and is not stored here.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/iop/concentration.hpp"
@@ -31,7 +32,7 @@
 #include <type_traits>
 #include <utility>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 namespace detail {
 /// A coefficient spectrum (FILENAME) must be >= 0 at every node (SpectralTable itself

@@ -11,6 +11,7 @@
 //
 // ID (default "chlorophyll" in every table) is the name the composer of a medium gives the
 // model so that coefficient models can refer to it (CONCID); it is not stored here.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/iop/iop_model.hpp"
@@ -23,7 +24,7 @@
 #include <type_traits>
 #include <utility>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 /// The noise of a concentration: same Noise as the coefficients, at wavelength 0.
 inline constexpr double concentration_noise_wavelength = 0.0;

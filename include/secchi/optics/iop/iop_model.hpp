@@ -12,11 +12,12 @@
 //  - Phase functions are the PhaseFunction concept of optics/phase (angle only, 5.8).
 //
 // Wavelengths are in nanometres throughout.
+#include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/iop/noise.hpp"
 #include <concepts>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 template <class C>
 concept ConcentrationModel = requires(const C c, vec3 x) {

@@ -14,6 +14,7 @@
 // Both expose absorption(x, lambda), for_each_scatterer(f) and refractive_index(lambda), and
 // stratify() turns either into the transport's StratifiedWater at one wavelength (the
 // manual's concentrations vary with depth only, 5.10), so both forms give identical values.
+#include "secchi/core/config.hpp"
 #include "secchi/optics/iop/coefficient.hpp"
 #include "secchi/optics/iop/iop_model.hpp"
 #include "secchi/optics/phase/any_phase.hpp"
@@ -23,7 +24,7 @@
 #include <tuple>
 #include <vector>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 /// A scattering-coefficient model and the phase function tied to it (SCATID).
 template <CoefficientModel B, PhaseFunction P>

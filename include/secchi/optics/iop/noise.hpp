@@ -10,6 +10,7 @@
 // Never negative: a coefficient or concentration cannot be negative, so a noisy value below
 // zero is clamped to zero (documented behaviour, not an error: with sigma comparable to the
 // value, clamping is the expected outcome for some points). A negative sigma is rejected.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/rng.hpp"
@@ -18,7 +19,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 class Noise {
 public:

@@ -5,13 +5,14 @@
 //
 // SIGMA (Noise, default 0): n + N(0, sigma). The index has no position argument, so the
 // noise is drawn at the origin: a function of wavelength only, the same everywhere.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/iop/iop_model.hpp"
 #include "secchi/optics/iop/noise.hpp"
 #include <cmath>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 /// TYPE "constant" (manual 5.9.1): n(lambda) = IOR at every wavelength (as in Hydrolight).
 /// Default IOR 1.0 (the null medium, 5.3.1); the "air" base medium uses 1.0003 (5.3.2).

@@ -13,6 +13,7 @@
 //
 // Every model has SIGMA (the Noise: + N(0, sigma) at (x, lambda), clamped at zero). ID and
 // CONCID are the composer's business (CONCID is resolved to the Conc model given here).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/iop/concentration.hpp"
@@ -22,7 +23,7 @@
 #include <concepts>
 #include <utility>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 namespace detail {
 /// Wavelengths enter as lambda0/lambda or lambda^Q: they must be positive.

@@ -8,6 +8,7 @@
 //
 // Validated on construction: at least two nodes, wavelengths finite and strictly increasing,
 // values finite (values may be negative: e.g. the Bricaud 1995 exponent B).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi::iop {
+namespace secchi::SECCHI_ISA::iop {
 
 /// One node of a table: the form of the constexpr data arrays (optics/iop/data/).
 struct SpectralPoint {

@@ -2,6 +2,7 @@
 // Every phase-function type as one run-time variant, and a wrapper that makes the variant a
 // PhaseFunction itself (one std::visit per call: for configuration, tests and tools; the
 // photon loop instead visits once and runs on the concrete type, see solver/phase_choice.hpp).
+#include "secchi/core/config.hpp"
 #include <string>
 #include <variant>
 #include <vector>
@@ -16,7 +17,7 @@
 #include "secchi/optics/phase/schlick.hpp"
 #include "secchi/optics/phase/tabulated.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 using AnyPhase = std::variant<IsotropicPhase, RayleighPhase, HenyeyGreensteinPhase, TabulatedPhase, SchlickPhase,
                               PhaseMixture<HenyeyGreensteinPhase>, PhaseMixture<SchlickPhase>, RayleighLikePhase,

@@ -10,13 +10,14 @@
 // over (manual eq. 3.5: alpha = 2.3 deg for omega = 0.005 sr); near psi = pi it is coarser
 // (about 2 deg), where natural-water phase functions are flat. Interpolation error is measured
 // against the source in test_chord_table.cpp.
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class ChordTable {
 public:

@@ -35,6 +35,7 @@
 // pbar is tabulated at construction on a psi grid (0; log-spaced from 1e-4 alpha to 10 deg;
 // uniform to 180 deg; graded about psi = alpha, where Petzold's singular peak crosses the
 // cone's edge and pbar has a cusp) and evaluated by linear interpolation in psi.
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -44,7 +45,7 @@
 #include "secchi/core/names.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// Whether the scattering within the cone's half-angle of the forward direction is averaged
 /// with the rest (the manual's eq. 3.5) or transmitted along the ray (see above).

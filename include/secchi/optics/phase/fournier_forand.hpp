@@ -21,6 +21,7 @@
 // Measured against analytic() (tests/test_phase_models.cpp, b_b/b = 0.0183 and 0.01): the
 // table integrates to 1 + 2.6e-6 and 1 + 3.4e-6 before rescaling, and eval() is within
 // 6.9e-6 and 8.0e-6 (relative) of the closed form from 1e-4 to 180 deg.
+#include "secchi/core/config.hpp"
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -31,7 +32,7 @@
 #include "secchi/optics/phase/phase_function.hpp"
 #include "secchi/optics/phase/tabulated.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class FournierForandPhase {
 public:

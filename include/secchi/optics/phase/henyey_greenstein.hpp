@@ -1,6 +1,7 @@
 #pragma once
 // Henyey-Greenstein phase function (Henyey and Greenstein 1941; manual section 4.13.1,
 // eq. 4.70): p(psi) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos psi)^{3/2}), mean cosine g.
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -9,7 +10,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class HenyeyGreensteinPhase {
 public:

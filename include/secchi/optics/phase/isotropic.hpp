@@ -1,10 +1,11 @@
 #pragma once
 // Isotropic (uniform) scattering, manual eq. 5.26: p = 1/(4 pi).
+#include "secchi/core/config.hpp"
 #include <string>
 
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class IsotropicPhase {
 public:

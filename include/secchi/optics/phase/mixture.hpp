@@ -6,6 +6,7 @@
 // sum_i w_i B_i. Sampling is exact: u1 picks component i with probability w_i and, rescaled
 // to its interval, is reused as that component's u1 (so a sample still takes two uniforms);
 // the density of the result is the mixture itself, pdf = sum_i w_i pdf_i = eval.
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <cmath>
 #include <span>
@@ -19,7 +20,7 @@
 #include "secchi/optics/phase/phase_function.hpp"
 #include "secchi/optics/phase/schlick.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 template <PhaseFunction P>
 class PhaseMixture {

@@ -6,6 +6,7 @@
 // interpolation" between the tabulated angles and p(psi) = p(0.12589) (0.12589/psi)^1.346
 // below 0.12589 deg. Which reading of that is canonical is fixed in canonical_problems.md
 // (section 2, problem 2): PetzoldReading below.
+#include "secchi/core/config.hpp"
 #include <array>
 #include <optional>
 #include <utility>
@@ -13,7 +14,7 @@
 
 #include "secchi/optics/phase/tabulated.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 struct PetzoldNode {
     double angle_deg;

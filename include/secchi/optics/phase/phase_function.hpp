@@ -6,6 +6,7 @@
 // (manual section 5.8) and normalised so that 2 pi int_0^pi p(psi) sin(psi) dpsi = 1
 // (manual eq. 5.25-5.27). Samplers take their uniform numbers as arguments (pbrt style), so
 // they are pure functions and testable.
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,7 +18,7 @@
 
 #include "secchi/core/math.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// One sampled scattering direction: cos of the scattering angle, azimuth, density per sr.
 struct PhaseSample {

@@ -23,6 +23,7 @@
 // (K2 = 1: the same function) and hgpf / schlick the mixture of eq. 5.28 (one component: the
 // same function). pure-water (eq. 5.2, otherwise the phase function of a purewater base
 // medium, 5.3) is accepted in files too; data reads a file, so it is for files only.
+#include "secchi/core/config.hpp"
 #include <optional>
 #include <string>
 #include <utility>
@@ -33,7 +34,7 @@
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/tabulated_samples.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The named parameters of a phase model in a material file's ADD_PHASE_FUNCTION_MODEL
 /// section, as io/material_medium.hpp reads them (each accessor marks the parameter as read;

@@ -1,13 +1,14 @@
 #pragma once
 // Rayleigh scattering (M93 problem 1; manual eq. 5.29 with k1 = 3/(16 pi), k2 = 1):
 // p(psi) = 3/(16 pi) (1 + cos^2 psi).
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class RayleighPhase {
 public:

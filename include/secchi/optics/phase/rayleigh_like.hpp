@@ -7,6 +7,7 @@
 // and from_k1_k2() rejects a user's k1 that is more than 1 % off it. Pure water (manual
 // eq. 5.2, after Mobley 1994): k1 = 0.06225, k2 = 0.835 (normalised k1 = 0.0622507).
 // RayleighPhase (M93 problem 1) is the case k2 = 1. Mean cosine 0, backscatter fraction 1/2.
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -15,7 +16,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class RayleighLikePhase {
 public:

@@ -7,6 +7,7 @@
 // cosine"); Blasi et al. write 1 + k cos with k < 0 forward because their angle is measured
 // from the reversed incident direction. The mean cosine is not k but (see mean_cosine())
 //   g = 1/k - (1 - k^2) atanh(k) / k^2   (= 2k/3 + O(k^3) for small k).
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -15,7 +16,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 class SchlickPhase {
 public:

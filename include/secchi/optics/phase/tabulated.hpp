@@ -21,6 +21,7 @@
 //  * A table ending before 180 deg is extended to 180 deg with its last value.
 // Either way the table is then divided by its exact integral, raw_integral(), so that
 // 2 pi int p sin dpsi = 1.
+#include "secchi/core/config.hpp"
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -35,7 +36,7 @@
 #include "secchi/core/lanes.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 enum class TabulatedConvention {
     trapezoid,  ///< 2 pi p sin(psi) linear in psi between nodes (M93's trapezoidal rule)

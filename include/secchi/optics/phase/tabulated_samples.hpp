@@ -7,6 +7,7 @@
 // 5 % is rejected as unnormalised (a wrong unit or a missing 2 pi, not a rounding), and any
 // smaller deviation is normalised away exactly. Petzold's table (M93) is off by 0.2 % under
 // the trapezoid convention and 2 % with p linear in angle, so it passes.
+#include "secchi/core/config.hpp"
 #include <cmath>
 #include <optional>
 #include <span>
@@ -17,7 +18,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/tabulated.hpp"
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// Largest accepted |raw integral - 1| of a user's table.
 inline constexpr double table_normalisation_tolerance = 0.05;

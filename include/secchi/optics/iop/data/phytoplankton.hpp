@@ -3,10 +3,11 @@
 // script that copies each CSV number verbatim as text: do not edit the numbers by hand.
 // Phytoplankton / particle absorption tables (DIRSIG manual 5.6.3 and beyond the manual).
 // Each {wavelength_nm, value} pair.
+#include "secchi/core/config.hpp"
 #include "secchi/optics/iop/spectral_table.hpp"
 #include <array>
 
-namespace secchi::iop::data {
+namespace secchi::SECCHI_ISA::iop::data {
 
 /// Prieur & Sathyendranath (1981), Limnol. Oceanogr. 26(4) 671-689, doi:10.4319/lo.1981.26.4.0671,
 /// table 2: the dimensionless chlorophyll-specific absorption a*_c'(lambda), normalised to 1 at

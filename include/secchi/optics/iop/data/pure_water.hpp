@@ -3,10 +3,11 @@
 // script that copies each CSV number verbatim as text: do not edit the numbers by hand.
 // Pure-water absorption and scattering tables (DIRSIG manual 5.3.3, 5.3.4, 5.6.5-5.6.7).
 // Each {wavelength_nm, value} pair; wavelengths as given by the source (air or vacuum).
+#include "secchi/core/config.hpp"
 #include "secchi/optics/iop/spectral_table.hpp"
 #include <array>
 
-namespace secchi::iop::data {
+namespace secchi::SECCHI_ISA::iop::data {
 
 /// Pope & Fry (1997), Appl. Opt. 36(33) 8710-8723, doi:10.1364/AO.36.008710: pure water absorption
 /// a_w in 1/m, 380-727.5 nm every 2.5 nm (140 rows). Copied from

@@ -1,0 +1,2 @@
+#include "problem.hpp"
+IsaRun run_avx2() { return run_problem(); }

@@ -1,0 +1,2 @@
+#include "problem.hpp"
+IsaRun run_base() { return run_problem(); }
