@@ -231,7 +231,7 @@ TEST_CASE("invalid input names the parameter") {
     const auto tc = TabulatedConvention::trapezoid;
     CHECK_THAT(input_error_message([] { HenyeyGreensteinPhase(1.0); }), Contains("invalid g = 1"));
     CHECK_THAT(input_error_message([] { HenyeyGreensteinPhase(-1.5); }), Contains("invalid g = -1.5"));
-    CHECK_THAT(input_error_message([] { HenyeyGreensteinPhase(std::numeric_limits<double>::quiet_NaN()); }),
+    CHECK_THAT(input_error_message([] { (void)HenyeyGreensteinPhase{std::numeric_limits<double>::quiet_NaN()}; }),
                Contains("invalid g = nan"));
     CHECK_THAT(input_error_message([] { TP({0.0, 10.0, 5.0, 180.0}, {1.0, 1.0, 1.0, 1.0}); }),
                Contains("angle_deg[2] = 5") && Contains("strictly increasing"));

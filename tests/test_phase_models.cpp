@@ -59,7 +59,7 @@ TEST_CASE("Schlick phase function (manual eq. 4.73)") {
     CHECK(SchlickPhase(0.9).mean_cosine() < 0.9);  // k > g for k > 0
     CHECK_THAT(input_error_message([] { SchlickPhase(1.0); }), Contains("invalid k = 1"));
     CHECK_THAT(input_error_message([] { SchlickPhase(-1.2); }), Contains("invalid k = -1.2"));
-    CHECK_THAT(input_error_message([] { SchlickPhase(std::numeric_limits<double>::quiet_NaN()); }),
+    CHECK_THAT(input_error_message([] { (void)SchlickPhase{std::numeric_limits<double>::quiet_NaN()}; }),
                Contains("invalid k = nan"));
 }
 

@@ -392,7 +392,7 @@ TEST_CASE("the VOI octree agrees with brute force for any leaf size", "[stores][
 TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     const std::size_t n = 1000000;
     const auto records = make_records<CompactRecord>(Layout::uniform, n, 71);
-    const auto per_photon = [n](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(n); };
+    const auto per_photon = [](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(n); };
     const KdTreeStore<CompactRecord> kd(records);
     const NanoflannStore<CompactRecord> nano(records);
     const VoiOctreeStore<CompactRecord> octree(records);

@@ -14,6 +14,14 @@
 
 namespace secchi::testing {
 
+/// PhotonTracer with exactly the parameters the checks below take (a template template
+/// parameter matches a template with more, defaulted, parameters only under C++17's relaxed
+/// rule, which clang 14 does not apply by default).
+template <class M, class Record, class Surface>
+using PhotonTracerOf3 = PhotonTracer<M, Record, Surface>;
+template <class M, class Record>
+using PhotonTracerOf2 = PhotonTracer<M, Record>;
+
 inline void check_agree(const Estimate& x, const Estimate& y, const std::string& what) {
     INFO(what << ": " << x.value << " +- " << x.se << " vs " << y.value << " +- " << y.se);
     CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));

@@ -11,7 +11,11 @@
 // little from them; one for AVX2 or better does (docs/design-notes.md). A photon's history does not
 // depend on the lane count (each photon draws from its own random stream); the order of the
 // stored records and the rounding of the tallies' sums do.
-#if __has_include(<experimental/simd>)
+//
+// Where <experimental/simd> is absent (or SECCHI_DISABLE_LANES is defined, to build and test
+// that case anywhere), SECCHI_HAS_LANES stays undefined and everything runs one photon at a
+// time: LaneTracer is not declared, and the estimators' SIMD loops take their scalar forms.
+#if __has_include(<experimental/simd>) && !defined(SECCHI_DISABLE_LANES)
 // GCC 12's AVX-512 intrinsics (included through <experimental/simd>) warn about their own
 // deliberately undefined vectors (GCC bug 105593, fixed in GCC 13); the warnings point into
 // those headers, so they are silenced where the headers are read.

@@ -24,9 +24,7 @@
 #include "secchi/transport/settings.hpp"
 #include <cmath>
 #include <type_traits>
-#if __has_include(<experimental/simd>)
 #include "secchi/core/lanes.hpp"
-#endif
 
 namespace secchi::SECCHI_ISA {
 

@@ -32,6 +32,8 @@ struct Scatterer {
     B coefficient;
     P phase;
 };
+template <class B, class P>
+Scatterer(B, P) -> Scatterer<B, P>;  // (aggregate deduction, for compilers without C++20's: clang < 17)
 
 /// The medium's single refractive index n(lambda) (manual 5.9; not part of the linear sums).
 using RefractiveIndexFunction = std::function<double(double)>;
