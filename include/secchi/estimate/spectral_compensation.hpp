@@ -25,7 +25,9 @@
 //    relative to intensity), E[s_k] is the true share (up to the ratio's O(1/N) bias, N the
 //    photons of the spectral search) and L_k is unbiased, with the noise of the core search
 //    over all bands, ~1/sqrt(bands) of one band's when the bands are alike, plus the small noise of
-//    the shares;
+//    the shares. L_k's relative noise is about T's, which the brightest bands set: a band much
+//    dimmer than the others may come out noisier than its own per-band estimate (e.g. Case-1
+//    water's red bands beside its blue ones, examples/spectral_case1.cpp);
 //  - where the ratios vary across the spectral volume, s_k is the ratio of the bands' averages
 //    over it, not at the core: a bias. E.g. a horizontal ray, whose cylinder spans depths
 //    z +- r_spectral, in water whose bands' radiances fall with depth as exp(-K_k z): the
