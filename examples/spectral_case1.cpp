@@ -7,7 +7,11 @@
 // eq. 3.7; sr^-1), each with its SE (Ed(0+) is exact: the source's plane irradiance).
 // Sun at 30 deg, flat surface, black sky, infinitely deep water; the source's spectrum is flat
 // (E_perp = 1 per nm in every band: radiances are per unit E_perp, Rrs does not depend on it).
+// With --spectral-radius R, Lu(lambda, z) also with spectral bias compensation (manual 3.5.2,
+// estimate/spectral_compensation.hpp): the core search over all bands at the collection radius,
+// each band's share from the search of radius R.
 #include <secchi/estimate/radiance.hpp>
+#include <secchi/estimate/spectral_compensation.hpp>
 #include <secchi/io/cli.hpp>
 #include <secchi/io/material_medium.hpp>
 #include <secchi/solver/spectral.hpp>
@@ -24,6 +28,10 @@ constexpr const char* usage = R"(usage: spectral_case1 [options]
   --depths R          m, for Ed and Lu (default 0:10:5)
   --photons N         photons per band, all stored in the map (default 100000)
   --threads T         (default 2)
+  --spectral-radius R m, also Lu with spectral bias compensation (manual 3.5.2): the core
+                      search of all bands at 0.05 m, each band's share from radius R
+                      (0.05 <= R < 0.5); CSV rows Lu_compensated, and a table at the
+                      depth shown
   --csv FILE          write rows wavelength_nm, depth_m, quantity, value, se: Ed and Lu at
                       each depth, Lw and Rrs at -0.01 (the view 1 cm above the surface), to
                       FILE (default spectral_case1.csv)
@@ -33,7 +41,7 @@ constexpr const char* usage = R"(usage: spectral_case1 [options]
 int main(int argc, char** argv) {
     using namespace secchi;
     return run_program(argc, argv, "spectral_case1", usage, [&] {
-        const CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "photons", "threads", "csv"});
+        const CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "photons", "threads", "csv", "spectral-radius"});
         const std::string material = cl.text("material", "examples/materials/case1_chlorophyll.mat");
         const std::vector<double> wavelengths = cl.range("wavelengths", "400:700:10");
         const std::vector<double> depths = cl.range("depths", "0:10:5");
@@ -41,6 +49,10 @@ int main(int argc, char** argv) {
         const std::uint64_t photons = cl.count("photons", 100'000);
         require(photons >= 1, "--photons", photons, "must be >= 1");
         const std::string csv_path = cl.text("csv", "spectral_case1.csv");
+        const double spectral_radius = cl.number("spectral-radius", 0.0);  // 0: no compensation
+        if (cl.has("spectral-radius"))
+            require(spectral_radius >= 0.05 && spectral_radius < 0.5, "--spectral-radius", spectral_radius,
+                    "must lie in [0.05, 0.5) m: at least the collection radius, under half the section width");
         std::ofstream csv(csv_path);  // opened before the work: a path that cannot be written fails at once
         require(static_cast<bool>(csv), "--csv", csv_path, "cannot be opened for writing");
 
@@ -74,6 +86,14 @@ int main(int argc, char** argv) {
         const auto run = trace_spectral_map<VoiGridStore<CompactRecord>>(media, wavelengths, cfg, radius);
         const RadianceEstimator est(run.map, VoiCylinder(0.0, INFINITY), optics, radius);
 
+        // Compensated Lu(lambda) per depth, every band at once (the rays as for Lu below).
+        std::vector<std::vector<Estimate>> lu_compensated;
+        if (cl.has("spectral-radius")) {
+            const SpectralCompensationEstimator compensated(run.map, VoiCylinder(0.0, INFINITY), optics,
+                                                            SpectralCompensation{radius.value(), spectral_radius});
+            for (double z : depths) lu_compensated.push_back(compensated.average(nadir_ray_grid(z, INFINITY, 10, run.map.section_width()), threads));
+        }
+
         csv << "wavelength_nm,depth_m,quantity,value,se\n";
         std::printf("%7s %22s %22s %22s\n", "lambda", "Lw (W m^-2 sr^-1 nm^-1)", "Rrs (sr^-1)", "Ed(5 m) or first depth");
         for (std::size_t k = 0; k < wavelengths.size(); ++k) {
@@ -88,12 +108,26 @@ int main(int argc, char** argv) {
                 const Estimate lu = est.average(nadir_ray_grid(depths[i], INFINITY, 10, run.map.section_width()), band, threads);
                 csv << wavelengths[k] << ',' << depths[i] << ",Ed," << ed.value << ',' << ed.se << '\n';
                 csv << wavelengths[k] << ',' << depths[i] << ",Lu," << lu.value << ',' << lu.se << '\n';
+                if (!lu_compensated.empty())
+                    csv << wavelengths[k] << ',' << depths[i] << ",Lu_compensated," << lu_compensated[i][k].value << ','
+                        << lu_compensated[i][k].se << '\n';
             }
             csv << wavelengths[k] << ",-0.01,Lw," << lw.value << ',' << lw.se << '\n';
             csv << wavelengths[k] << ",-0.01,Rrs," << lw.value / ed0 << ',' << lw.se / ed0 << '\n';
             const Estimate ed_shown = run.first_pass[k].depths[std::min<std::size_t>(1, depths.size() - 1)].irradiance[Ed];
             std::printf("%7.0f %12.4e +- %7.1e %12.4e +- %7.1e %12.4e +- %7.1e\n", wavelengths[k], lw.value, lw.se,
                         lw.value / ed0, lw.se / ed0, ed_shown.value, ed_shown.se);
+        }
+        if (!lu_compensated.empty()) {
+            const std::size_t i = std::min<std::size_t>(1, depths.size() - 1);
+            std::printf("\nLu(lambda) at %g m (W m^-2 sr^-1 nm^-1): per band, and compensated (manual 3.5.2, r_spectral %g m)\n",
+                        depths[i], spectral_radius);
+            for (std::size_t k = 0; k < wavelengths.size(); ++k) {
+                const Estimate lu = est.average(nadir_ray_grid(depths[i], INFINITY, 10, run.map.section_width()),
+                                                static_cast<unsigned>(k), threads);
+                const Estimate& c = lu_compensated[i][k];
+                std::printf("%7.0f %12.4e +- %7.1e %12.4e +- %7.1e\n", wavelengths[k], lu.value, lu.se, c.value, c.se);
+            }
         }
         return 0;
     });

@@ -27,4 +27,20 @@ inline Estimate batch_estimate(std::span<const double> batch_values) {
     return {mean, std::sqrt(ss / (n - 1.0) / n)};
 }
 
+/// A statistic that is not a mean of the batches (e.g. a ratio of batch sums), with the
+/// delete-one-batch jackknife's standard error (Efron & Tibshirani 1993, "An Introduction to
+/// the Bootstrap", eq. 11.5): `value` from all B batches pooled, leave_one_out[b] the same
+/// statistic from the other B - 1 batches; se = sqrt((B - 1) / B * sum_b (theta_b - theta_bar)^2).
+/// For a mean of the batches it is batch_estimate's SE exactly. B < 2: se infinite.
+inline Estimate jackknife_estimate(double value, std::span<const double> leave_one_out) {
+    const double n = static_cast<double>(leave_one_out.size());
+    if (leave_one_out.size() < 2) return {value, INFINITY};
+    double mean = 0.0;
+    for (double v : leave_one_out) mean += v;
+    mean /= n;
+    double ss = 0.0;
+    for (double v : leave_one_out) ss += (v - mean) * (v - mean);
+    return {value, std::sqrt((n - 1.0) / n * ss)};
+}
+
 }  // namespace secchi
