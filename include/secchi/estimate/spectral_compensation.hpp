@@ -56,6 +56,7 @@
 // Threads: as RadianceEstimator: built once, then radiance() and add() from any number of
 // threads; average() runs its rays in parallel and merges in ray order (bit-identical for any
 // thread count).
+#include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/radiance.hpp"
@@ -69,7 +70,7 @@
 #include <utility>
 #include <vector>
 
-namespace secchi {
+namespace secchi::SECCHI_ISA {
 
 /// The two radii of the compensation (m).
 struct SpectralCompensation {
