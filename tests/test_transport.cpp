@@ -411,3 +411,36 @@ TEST_CASE("A detector on a Lambertian bottom sees Eu = A Ed (exact with weighted
     // there differs from the bottom's by a t < 1e-10 relative.
     testing::check_bottom_plane_counts_every_arrival<testing::PhotonTracerOf2>(1e-10);
 }
+
+namespace {
+/// A detector policy of its own (IrradianceDetector): IrradiancePlanes whose scalar
+/// irradiances score every crossing 1/|mu| down to mu = 0.3 (2/0.3 below it), whatever the
+/// settings' grazing cosine.
+class CoarseGrazingPlanes : public IrradiancePlanes {
+public:
+    CoarseGrazingPlanes(std::vector<double> depths, double /*grazing_cosine*/, double floor_depth)
+        : IrradiancePlanes(std::move(depths), 0.3, floor_depth) {}
+};
+static_assert(IrradianceDetector<CoarseGrazingPlanes>);
+}  // namespace
+
+TEST_CASE("The detectors are a policy: the tracer tallies through the one it is given") {
+    using Water = HomogeneousWater<HenyeyGreensteinPhase>;
+    const auto medium = Water::from_albedo(1.0, 0.8, HenyeyGreensteinPhase(0.8));
+    const Slab slab(1.0, Bottom{}, 30.0);
+    TransportSettings s;
+    s.photons = 20000;
+    s.depths = {1.0, 4.0};
+    const auto plain = PhotonTracer<Water, CompactRecord>(medium, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
+    const auto coarse = PhotonTracer<Water, CompactRecord, FlatSurface, SunAndSky, CoarseGrazingPlanes>(
+                            medium, slab, FlatSurface(1.34), CollimatedSun(30.0), s)
+                            .run();
+    for (std::size_t i = 0; i < s.depths.size(); ++i) {
+        // The same photons: the plane irradiances are the same sums, the scalar ones differ
+        // only in the grazing crossings' scores (the coarse rule scores fewer of them 1/|mu|).
+        CHECK(coarse.irradiance[i][Ed].value == plain.irradiance[i][Ed].value);
+        CHECK(coarse.irradiance[i][Eu].value == plain.irradiance[i][Eu].value);
+        CHECK(coarse.irradiance[i][Eod].value != plain.irradiance[i][Eod].value);
+        CHECK(std::abs(coarse.irradiance[i][Eod].value / plain.irradiance[i][Eod].value - 1.0) < 0.1);
+    }
+}

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <vector>
 
 namespace secchi::SECCHI_ISA {
@@ -39,6 +40,21 @@ struct NoAbsorption {
     [[nodiscard]] double optical_path(Coefficient, double, double, double) const { return 0.0; }
 };
 
+/// The first pass's detector policy: built from the detector depths (m), the grazing cosine
+/// mu_c and the floor's depth; `record` tallies a straight flight into one IrradianceTally per
+/// depth (Ed, Eu, Eod, Eou), its weight decaying along the flight by the absorber's absorption
+/// (a Medium, or NoAbsorption). PhotonTracer takes one (IrradiancePlanes by default);
+/// LaneTracer also needs record_lanes and may_tally for flights in SIMD lanes.
+template <class D>
+concept IrradianceDetector =
+    std::constructible_from<D, std::vector<double>, double, double> &&
+    requires(const D& d, const Flight& f, IrradianceTally* tally) {
+        { d.size() } -> std::convertible_to<std::size_t>;
+        { d.depths() } -> std::convertible_to<const std::vector<double>&>;
+        d.record(f, NoAbsorption{}, tally);
+    };
+
+/// Horizontal planes across the whole section (see the header comment).
 class IrradiancePlanes {
 public:
     /// depths: the detector planes (m); grazing_cosine: mu_c in (0, 1); floor_depth: the
@@ -136,5 +152,7 @@ private:
     std::vector<float> float_planes_;  ///< the planes for float lanes (record_lanes)
     double grazing_, grazing_score_;   ///< mu_c and 2 / mu_c
 };
+
+static_assert(IrradianceDetector<IrradiancePlanes>);
 
 }  // namespace secchi

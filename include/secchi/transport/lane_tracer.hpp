@@ -53,12 +53,14 @@ namespace secchi::SECCHI_ISA {
 /// Source: the light source (scene/source.hpp), whose photons (and, for a traced atmosphere,
 /// the light it sends back) are followed lane by lane by PhotonTracer's launch and surface
 /// crossing.
+/// Detector: the irradiance detectors (IrradianceDetector, with record_lanes and may_tally for
+/// flights in lanes), IrradiancePlanes by default.
 template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface,
-          LightSource Source = SunAndSky>
+          LightSource Source = SunAndSky, IrradianceDetector Detector = IrradiancePlanes>
     requires depth_independent<M> && std::default_initializable<Record> &&
              (std::same_as<Real, double> || std::same_as<Real, float>)
-class LaneTracer : private PhotonTracer<M, Record, Surface, Source> {
-    using Base = PhotonTracer<M, Record, Surface, Source>;
+class LaneTracer : private PhotonTracer<M, Record, Surface, Source, Detector> {
+    using Base = PhotonTracer<M, Record, Surface, Source, Detector>;
     using typename Base::PhotonState;
     using Reals = lanes::LanesOf<Real>;
     using Mask = typename Reals::mask_type;
@@ -72,7 +74,7 @@ class LaneTracer : private PhotonTracer<M, Record, Surface, Source> {
 
 public:
     using typename Base::medium_type, typename Base::record_type, typename Base::surface_type,
-        typename Base::source_type;
+        typename Base::source_type, typename Base::detector_type;
 
     /// The photons come from `source` (scene/source.hpp).
     LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
@@ -129,7 +131,7 @@ private:
 
     void trace_block(const detail::Block& block, detail::BlockResult<Record>& out) const {
         Lanes lanes{};
-        lanes.tally.assign(this->planes_.size(), {Reals(Real(0)), Reals(Real(0)), Reals(Real(0)), Reals(Real(0))});
+        lanes.tally.assign(this->detectors_.size(), {Reals(Real(0)), Reals(Real(0)), Reals(Real(0)), Reals(Real(0))});
         Launches launches;
         launches.first = block.begin;
         for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out);
@@ -281,12 +283,12 @@ private:
                            detail::BlockResult<Record>& out) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         if (!this->physics_.continuous()) {
-            this->planes_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
+            this->detectors_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
         } else {
             using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
-            const Mask tallies = alive && this->planes_.may_tally(min(z, z1), max(z, z1));
+            const Mask tallies = alive && this->detectors_.may_tally(min(z, z1), max(z, z1));
             lanes::for_each(tallies, [&](int l) {
-                this->planes_.record(Flight{depth(L.z[l]), depth(z1[l]), L.dz[l], t[l], L.w[l]}, this->medium_,
+                this->detectors_.record(Flight{depth(L.z[l]), depth(z1[l]), L.dz[l], t[l], L.w[l]}, this->medium_,
                                      out.tally.data());
             });
         }
@@ -345,8 +347,9 @@ private:
 };
 
 /// LaneTracer in float lanes (twice the lanes per vector), with PhotonTracer's parameters.
-template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky>
-using FloatLaneTracer = LaneTracer<M, Record, float, Surface, Source>;
+template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky,
+          IrradianceDetector Detector = IrradiancePlanes>
+using FloatLaneTracer = LaneTracer<M, Record, float, Surface, Source, Detector>;
 
 }  // namespace secchi
 #endif

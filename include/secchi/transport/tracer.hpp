@@ -77,19 +77,24 @@ struct BlockResult {
 
 }  // namespace detail
 
-template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky>
+/// The policies: the water (Medium), what a stored event keeps (PhotonRecord), the air-water
+/// surface (AirWaterSurface), the light source (LightSource) and the irradiance detectors
+/// (IrradianceDetector); the per-event rules are EventPhysics's, set by the settings.
+template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky,
+          IrradianceDetector Detector = IrradiancePlanes>
 class PhotonTracer {
 public:
     using medium_type = M;
     using record_type = Record;
     using surface_type = Surface;
     using source_type = Source;
+    using detector_type = Detector;
 
     /// The photons come from `source` (scene/source.hpp).
     PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
                  TransportSettings settings)
         : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
-          planes_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
+          detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           physics_(s_, slab.floor_depth()), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
@@ -131,7 +136,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         detail::ChunkPool<Record> pool;
         std::vector<detail::BlockResult<Record>> results;
         results.reserve(blocks.size());
-        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(planes_.size(), &pool);
+        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(detectors_.size(), &pool);
         detail::OrderedRecords<Record> map(blocks, s_.map_photons, std::move(storage));
         parallel_for(blocks.size(), s_.threads, [&](std::size_t i) {
             trace_block(blocks[i], results[i]);
@@ -363,8 +368,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// attenuating its weight by exp(-int a ds)).
     void fly(PhotonState& p, double s, double z1, detail::BlockResult<Record>& out) const {
         const Flight flight{p.pos.z, z1, p.dir.z, s, p.w};
-        if (physics_.continuous()) planes_.record(flight, medium_, out.tally.data());
-        else planes_.record(flight, NoAbsorption{}, out.tally.data());
+        if (physics_.continuous()) detectors_.record(flight, medium_, out.tally.data());
+        else detectors_.record(flight, NoAbsorption{}, out.tally.data());
         p.pos += p.dir * s;
         p.pos.z = z1;
         if (physics_.continuous()) {
@@ -439,7 +444,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     TransportResult<Record> merge(const std::vector<detail::Block>& blocks,
                                   const std::vector<detail::BlockResult<Record>>& results,
                                   std::vector<Record> records) const {
-        const std::size_t nd = planes_.size();
+        const std::size_t nd = detectors_.size();
         std::vector<std::vector<IrradianceTally>> batch_tally(s_.batches, std::vector<IrradianceTally>(nd));
         std::vector<double> batch_bottom(s_.batches, 0.0), batch_photons(s_.batches, 0.0);
         std::vector<std::array<double, 3>> batch_above(s_.batches, {0.0, 0.0, 0.0});
@@ -463,7 +468,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             for (unsigned b = 0; b < s_.batches; ++b) values[b] = ed0 * value_of_batch(b) / batch_photons[b];
             return batch_estimate(values);
         };
-        r.depths = planes_.depths();
+        r.depths = detectors_.depths();
         r.irradiance.resize(nd);
         for (std::size_t d = 0; d < nd; ++d)
             for (int k = 0; k < 4; ++k) r.irradiance[d][k] = estimate([&](unsigned b) { return batch_tally[b][d][k]; });
@@ -490,7 +495,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     Surface surface_;
     Source source_;
     TransportSettings s_;
-    IrradiancePlanes planes_;
+    Detector detectors_;
     EventPhysics physics_;  ///< the per-event rules of the settings
     bool importance_on_;
     ImportanceLevels levels_;
