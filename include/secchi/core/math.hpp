@@ -55,17 +55,29 @@ SECCHI_KERNEL T select(const Mask& m, const T& a, T b) {
 /// The scalar type of a double or float, or of a SIMD vector of them (its value_type): code
 /// written once for both writes its constants as scalar_t<Real>(c), since a vector of floats
 /// takes no double (std::experimental::simd broadcasts only value-preserving conversions).
+/// Its comparisons give a mask_of<Real>: bool, or the vector's mask type.
 template <class Real>
 struct scalar_of {
     using type = Real;
+    using mask = bool;
 };
 template <class Real>
-    requires requires { typename Real::value_type; }
+    requires requires { typename Real::value_type; typename Real::mask_type; }
 struct scalar_of<Real> {
     using type = typename Real::value_type;
+    using mask = typename Real::mask_type;
 };
 template <class Real>
 using scalar_t = typename scalar_of<Real>::type;
+template <class Real>
+using mask_of = typename scalar_of<Real>::mask;
+
+/// Whether m holds for any lane (m itself for a bool).
+template <class Mask>
+SECCHI_KERNEL bool any_lane(const Mask& m) {
+    if constexpr (std::is_same_v<Mask, bool>) return m;
+    else return any_of(m);
+}
 
 namespace detail {
 /// x rounded to the nearest integer (ties to even), for |x| < 2^51 (doubles; 2^22 for floats):

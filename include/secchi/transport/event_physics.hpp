@@ -28,26 +28,6 @@
 
 namespace secchi::SECCHI_ISA {
 
-/// The mask of a Real: bool for a double or float, the vector's mask type for a SIMD vector.
-template <class Real>
-struct mask_of_t {
-    using type = bool;
-};
-template <class Real>
-    requires requires { typename Real::mask_type; }
-struct mask_of_t<Real> {
-    using type = typename Real::mask_type;
-};
-template <class Real>
-using mask_of = typename mask_of_t<Real>::type;
-
-/// Whether m holds for any photon (m itself for one photon).
-template <class Mask>
-SECCHI_KERNEL bool any_lane(const Mask& m) {
-    if constexpr (std::is_same_v<Mask, bool>) return m;
-    else return any_of(m);
-}
-
 /// A photon's flight to its next event: path length t to depth z1, and whether it ends on the
 /// surface (z1 = 0 exactly) or on the floor (the bottom or the escape depth).
 template <class Real>
