@@ -36,13 +36,14 @@ int main(int argc, char** argv) {
         const CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "photons", "threads", "csv"});
         const std::string material = cl.text("material", "examples/materials/case1_chlorophyll.mat");
         const std::vector<double> wavelengths = cl.range("wavelengths", "400:700:10");
-        const std::vector<double> depths = cl.range("depths", "0:10:5");
-        const auto threads = static_cast<unsigned>(cl.count("threads", 2));
+        const std::vector<double> depths = cl.range("depths", "0:10:5", 0.0);
+        const auto threads = cl.threads(2);
         const std::uint64_t photons = cl.count("photons", 100'000);
         require(photons >= 1, "--photons", photons, "must be >= 1");
-        const std::string csv_path = cl.text("csv", "spectral_case1.csv");
-        std::ofstream csv(csv_path);  // opened before the work: a path that cannot be written fails at once
-        require(static_cast<bool>(csv), "--csv", csv_path, "cannot be opened for writing");
+        require(wavelengths.size() <= max_spectral_bands, "--wavelengths", cl.text("wavelengths", "400:700:10"),
+                "gives more bands than a spectral run holds (256)");
+        OutputFile csv_file("--csv", cl.text("csv", "spectral_case1.csv"));  // checked before the work
+        std::ostream& csv = csv_file.stream();
 
         // The water at each band's wavelength, sampled every 5 cm to 300 m.
         const auto model = io::read_iop_model(material, 1, "");
@@ -95,6 +96,7 @@ int main(int argc, char** argv) {
             std::printf("%7.0f %12.4e +- %7.1e %12.4e +- %7.1e %12.4e +- %7.1e\n", wavelengths[k], lw.value, lw.se,
                         lw.value / ed0, lw.se / ed0, ed_shown.value, ed_shown.se);
         }
+        csv_file.commit();
         return 0;
     });
 }

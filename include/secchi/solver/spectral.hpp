@@ -31,6 +31,9 @@
 
 namespace secchi {
 
+/// The most bands a spectral run holds: a record's band index is one byte.
+inline constexpr std::size_t max_spectral_bands = 256;
+
 /// A spectral run's first pass per band and its photon map of all bands.
 template <class Store>
 struct SpectralWater {
@@ -50,7 +53,8 @@ template <class Store, Medium M, class... StoreArgs>
 SpectralWater<Store> trace_spectral_map(const std::vector<M>& media, const std::vector<double>& wavelengths_nm,
                                         const PlaneParallelConfig& cfg, const StoreArgs&... store_args) {
     using Record = typename PhotonMap<Store>::Record;
-    require(!media.empty() && media.size() <= 256, "bands", media.size(), "must be 1 to 256 (a one-byte band index)");
+    require(!media.empty() && media.size() <= max_spectral_bands, "bands", media.size(),
+            "must be 1 to 256 (a one-byte band index)");
     require(wavelengths_nm.size() == media.size(), "wavelengths", wavelengths_nm.size(),
             "must be one per medium (" + std::to_string(media.size()) + ")");
     std::vector<PlaneParallelResult> results;

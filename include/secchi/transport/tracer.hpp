@@ -14,6 +14,7 @@
 // Parallel and reproducible: photon i draws only from its own counter-based stream
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
 // order, so the output is bit-identical for any thread count.
+#include "secchi/core/memory.hpp"
 #include "secchi/core/rng.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/map/record.hpp"
@@ -143,6 +144,14 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         s.validate();
         require(s.batches <= record_max_batches<Record>(), "batches", s.batches,
                 "exceeds what the photon record can label (CompactRecord: 64)");
+        // What run_blocks allocates at the least: each block's bookkeeping and tallies, and one
+        // record per map photon (a stored photon scatters at least once, on average more).
+        const double blocks = static_cast<double>(s.photons / s.block_size + s.batches);
+        const double per_block = sizeof(detail::Block) + sizeof(detail::BlockResult<Record>) +
+                                 static_cast<double>(s.depths.size()) * sizeof(IrradianceTally);
+        require_fits_in_memory(blocks * per_block, "photons", s.photons);
+        require_fits_in_memory(blocks * per_block + static_cast<double>(s.map_photons) * sizeof(Record), "map photons",
+                               s.map_photons);
         return s;
     }
 
