@@ -45,6 +45,13 @@ int main(int argc, char** argv) {
         OutputFile csv_file("--csv", cl.text("csv", "spectral_case1.csv"));  // checked before the work
         std::ostream& csv = csv_file.stream();
 
+        PlaneParallelConfig cfg;
+        cfg.sun_zenith_deg = 30.0;
+        cfg.transport.photons = cfg.transport.map_photons = photons;
+        cfg.transport.depths = depths;
+        cfg.transport.threads = threads;
+        require_first_pass_fits_in_memory<CompactRecord>(cfg.transport, static_cast<double>(wavelengths.size()));
+
         // The water at each band's wavelength, sampled every 5 cm to 300 m.
         const auto model = io::read_iop_model(material, 1, "");
         const auto profile_depths = iop::uniform_depths(300.0, 0.05);
@@ -60,11 +67,6 @@ int main(int argc, char** argv) {
             optics.emplace_back(water, cones);
         }
 
-        PlaneParallelConfig cfg;
-        cfg.sun_zenith_deg = 30.0;
-        cfg.transport.photons = cfg.transport.map_photons = photons;
-        cfg.transport.depths = depths;
-        cfg.transport.threads = threads;
         // The map holds every band's events down to where the deepest nadir ray of the clearest
         // band has faded to 1e-4, plus the collection radius.
         const Radius radius(0.05);

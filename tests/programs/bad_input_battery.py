@@ -49,11 +49,11 @@ CASES = [
     ("slab", "--albedo 1e999", ["--albedo", "1e999"], []),
     ("slab", "--albedo 0.9x", ["--albedo", "0.9x"], []),
     ("slab", "--albedo ''", ["--albedo"], []),
-    ("slab", "--phase hg:1", ["hg:1"], []),
-    ("slab", "--phase hg:-1.5", ["hg:-1.5"], []),
-    ("slab", "--phase hg:nan", ["hg:nan"], []),
+    ("slab", "--phase hg:1", ["g = 1", "|g| < 1"], []),
+    ("slab", "--phase hg:-1.5", ["g = -1.5"], []),
+    ("slab", "--phase hg:nan", ["g = nan"], []),
     ("slab", "--phase bogus", ["phase", "bogus"], []),
-    ("slab", "--phase ff:-1", ["ff:-1"], []),
+    ("slab", "--phase ff:-1", ["bb_over_b = -1"], []),
     ("slab", "--sun-zenith -5", ["sun", "-5"], []),
     ("slab", "--sun-zenith 95", ["sun", "95"], []),
     ("slab", "--sun-zenith inf", ["--sun-zenith", "inf"], []),
@@ -182,7 +182,7 @@ CASES = [
     ("embed_host", "--map-photons -5", ["--map-photons", "-5"], []),
     ("embed_host", "--map-photons 0 --out {tmp}/host", ["photons", "0"], ["{tmp}/host.exr", "{tmp}/host.png"]),
     ("embed_host", "--map-photons 1e18 --out {tmp}/host", ["photons", "memory"], ["{tmp}/host.exr", "{tmp}/host.png"]),
-    ("embed_host", "--out {tmp}/dir/", ["--out", "{tmp}/dir/"], []),
+    ("embed_host", "--out {tmp}/empty.mat/host", ["--out", "{tmp}/empty.mat/host.exr"], []),
     ("embed_host", "--out {tmp}/no/such/host", ["--out", "{tmp}/no/such/host"], []),
     # ---- canonical ----------------------------------------------------------------------
     ("canonical", "--store voi", ["--problem", "required"], []),
@@ -243,7 +243,7 @@ def split(args):
 
 
 def main():
-    bins = dict(a.split("=", 1) for a in sys.argv[1:] if "=" in a)
+    bins = {k: os.path.abspath(v) for k, v in (a.split("=", 1) for a in sys.argv[1:] if "=" in a)}
     materials = bins.pop("materials")
     tmp = tempfile.mkdtemp(prefix="secchi_battery_")
     failures = []
@@ -282,6 +282,7 @@ def main():
             for leftover in os.listdir(tmp):
                 if leftover.endswith(".partial"):
                     problems.append(f"left {leftover} behind")
+                    os.remove(os.path.join(tmp, leftover))
             if problems:
                 failures.append(f"{shown}: {'; '.join(problems)}\n    stderr: {err.strip()[:400]}")
         print(f"{len(CASES)} cases over {len(programs)} programs ({', '.join(sorted(programs))})")

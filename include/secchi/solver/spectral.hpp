@@ -55,6 +55,7 @@ SpectralWater<Store> trace_spectral_map(const std::vector<M>& media, const std::
     using Record = typename PhotonMap<Store>::Record;
     require(!media.empty() && media.size() <= max_spectral_bands, "bands", media.size(),
             "must be 1 to 256 (a one-byte band index)");
+    require_first_pass_fits_in_memory<Record>(cfg.transport, static_cast<double>(media.size()));
     require(wavelengths_nm.size() == media.size(), "wavelengths", wavelengths_nm.size(),
             "must be one per medium (" + std::to_string(media.size()) + ")");
     std::vector<PlaneParallelResult> results;
