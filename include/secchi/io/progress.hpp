@@ -6,6 +6,7 @@
 // when stderr is a terminal and the program is not --quiet; SECCHI_PROGRESS=always (for tests)
 // shows it from the start whatever stderr is. It observes the loops only (core/progress.hpp).
 #include "secchi/core/progress.hpp"
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
