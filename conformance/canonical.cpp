@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 namespace {
 
@@ -206,7 +207,7 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     t.photons = cl.count("photons", p.photons / divisor);
     t.map_photons = std::min(t.photons, p.map_photons / divisor);
     t.seed = cl.count("seed", 1);
-    t.threads = static_cast<unsigned>(cl.count("threads", 1));
+    t.threads = cl.threads(1);
     t.absorption = AbsorptionMode::continuous;
     const double importance_cosine = cl.number("importance-cosine", p.importance_cosine);
     if (importance_cosine > 0.0) t.importance = {importance_cosine, p.depths.back()};
@@ -226,9 +227,8 @@ void print_entry(const Entry& e) {
                 !e.blocked.empty() ? "(blocked)" : !e.scored ? "(reported)" : e.pass ? "pass" : "FAIL");
 }
 
-void write_json(const std::vector<Entry>& entries, double seconds, const std::string& path) {
-    std::ofstream os(path);
-    if (!os) reject("--json", path, "cannot be opened for writing");
+void write_json(const std::vector<Entry>& entries, double seconds, OutputFile& file) {
+    std::ostream& os = file.stream();
     JsonWriter j(os);
     j.begin_object().begin_array("entries");
     for (const auto& e : entries)
@@ -249,6 +249,7 @@ void write_json(const std::vector<Entry>& entries, double seconds, const std::st
             .value("source", e.source)
             .end_object();
     j.end_array().value("seconds", seconds).end_object();
+    file.commit();
 }
 
 /// Problem 3 beside the manual's Table 7.1 (DIRSIG's photon mapping was 7-34 % off).
@@ -287,22 +288,22 @@ StratifiedWater<AnyPhaseFunction> problem3_water(const CommandLine& cl) {
 }
 
 /// z, C-free IOPs a, b, c, w0 every metre from 0 to 60 m (the manual's Fig. 7.30 as data).
-void write_profile_csv(const StratifiedWater<AnyPhaseFunction>& water, const std::string& path) {
-    std::ofstream os(path);
-    if (!os) reject("--profile-csv", path, "cannot be opened for writing");
+void write_profile_csv(const StratifiedWater<AnyPhaseFunction>& water, OutputFile& file) {
+    std::ostream& os = file.stream();
     os << "depth_m,a_per_m,b_per_m,c_per_m,albedo\n";
     for (int z = 0; z <= 60; ++z) {
         const double a = water.coefficient(Coefficient::absorption, z), b = water.coefficient(Coefficient::scattering, z);
         os << z << ',' << a << ',' << b << ',' << a + b << ',' << b / (a + b) << '\n';
     }
-    std::printf("   IOP profile: %s\n", path.c_str());
+    file.commit();
+    std::printf("   IOP profile: %s\n", file.path().c_str());
 }
 
 PlaneParallelResult solve(const ProblemSpec& p, const CommandLine& cl, const PlaneParallelConfig& cfg,
-                          const std::string& profile_csv) {
+                          OutputFile* profile_csv) {
     if (p.id == "3") {
         const auto water = problem3_water(cl);
-        if (!profile_csv.empty()) write_profile_csv(water, profile_csv);
+        if (profile_csv) write_profile_csv(water, *profile_csv);
         return solve_stratified(water, cfg);
     }
     const std::string phase = p.phase == "petzold" ? cl.text("petzold", "petzold") : p.phase;
@@ -350,7 +351,7 @@ std::vector<Entry> parametric_sky_runs(const ProblemSpec& p, const CommandLine& 
         std::printf("-- problem 4, reported: parametric sky %s (direct %.4f, diffuse %.4f just above the surface)\n",
                     run.label, run.direct, run.diffuse);
         std::fflush(stdout);
-        const auto r = solve(p, cl, cfg, "");
+        const auto r = solve(p, cl, cfg, nullptr);
         std::printf("   %.1f s; energy imbalance %.1e\n", r.seconds, r.ledger.imbalance());
         print_above_surface(r);
         for (const auto& ref : conformance::m93_table5) {
@@ -368,8 +369,8 @@ std::vector<Entry> parametric_sky_runs(const ProblemSpec& p, const CommandLine& 
     return out;
 }
 
-std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool quick, const std::string& exr,
-                               const std::string& profile_csv) {
+std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool quick, OutputFile* exr,
+                               OutputFile* profile_csv) {
     const auto cfg = config_for(p, cl, quick);
     const std::string phase = p.phase == "petzold" ? cl.text("petzold", "petzold") : p.phase;
     std::printf("-- problem %s: %s, w0 = %s, %llu photons (%llu in the map), store %s\n", p.id.c_str(),
@@ -390,9 +391,11 @@ std::vector<Entry> run_problem(const ProblemSpec& p, const CommandLine& cl, bool
     if (p.source != SourceKind::sun_and_sky) print_above_surface(r);
     if (p.source == SourceKind::atmosphere)
         for (auto& e : parametric_sky_runs(p, cl, cfg, r)) out.push_back(std::move(e));
-    if (!r.map.empty() && !exr.empty()) {
-        write_exr(project_photon_map(r.map, RecordFlux::uniform(r.flux_per_map_photon), cfg.section_width, 12.0), exr);
-        std::printf("   photon map image: %s\n", exr.c_str());
+    if (!r.map.empty() && exr) {
+        write_exr(project_photon_map(r.map, RecordFlux::uniform(r.flux_per_map_photon), cfg.section_width, 12.0),
+                  exr->partial_path());
+        exr->commit();
+        std::printf("   photon map image: %s\n", exr->path().c_str());
     }
     return out;
 }
@@ -423,7 +426,7 @@ TransportResult<CompactRecord> kirk_run(const Phase& phase, double a, double b, 
     t.photons = photons;
     t.map_photons = 0;
     t.seed = seed;
-    t.threads = static_cast<unsigned>(cl.count("threads", 1));
+    t.threads = cl.threads(1);
     t.absorption = AbsorptionMode::continuous;
     const HomogeneousWater<Phase> water(a, b, phase);
     const Slab slab(cfg.section_width, Bottom::infinitely_deep());
@@ -620,11 +623,28 @@ int main(int argc, char** argv) {
             cl.text("exr", json.empty() ? "" : (std::filesystem::path(json).parent_path() / "photon_map_2a.exr").string());
         const std::string profile_csv = cl.text(
             "profile-csv", json.empty() ? "" : (std::filesystem::path(json).parent_path() / "iop_profile_3.csv").string());
+        // The outputs are checked before the work, and written whole or not at all.
+        std::optional<OutputFile> json_file, exr_file, profile_file;
+        if (cl.has("json")) json_file.emplace("--json", json);
+        if (wanted("2a") && (cl.has("exr") || !exr.empty())) exr_file.emplace("--exr", exr);
+        if (wanted("3") && (cl.has("profile-csv") || !profile_csv.empty())) profile_file.emplace("--profile-csv", profile_csv);
+        // Every problem's options checked before the first one runs: its settings, its light
+        // source, the particle phase function and problem 3's medium.
+        for (const auto& p : problems) {
+            if (!wanted(p.id)) continue;
+            const auto cfg = config_for(p, cl, quick);
+            cfg.transport.validate();
+            (void)detail::source_of(cfg);
+            if (p.phase == "petzold") (void)parse_phase(cl.text("petzold", "petzold"));
+            if (p.id == "3") (void)problem3_water(cl);
+        }
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<Entry> entries;
         for (const auto& p : problems)
             if (wanted(p.id))
-                for (auto& e : run_problem(p, cl, quick, exr, profile_csv)) entries.push_back(std::move(e));
+                for (auto& e : run_problem(p, cl, quick, exr_file ? &*exr_file : nullptr,
+                                           profile_file ? &*profile_file : nullptr))
+                    entries.push_back(std::move(e));
         if (wanted("kirk"))
             for (auto& e : run_kirk(cl, quick)) entries.push_back(std::move(e));
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -643,7 +663,7 @@ int main(int argc, char** argv) {
                     quick ? "quick: |err| <= max(s/x, 4 SE)" : "|err| <= max(s/x, 3 SE), SE <= max(s/x, 0.5%)",
                     seconds);
         print_dirsig_comparison(entries);
-        if (!json.empty()) write_json(entries, seconds, json);
+        if (json_file) write_json(entries, seconds, *json_file);
         return failures == 0 ? 0 : 1;
     });
 }

@@ -81,7 +81,13 @@ void run(const secchi::CommandLine& cl, std::ostream& os) {
     if (cl.has("material") == cl.has("problem3"))
         secchi::reject("medium", "(options)", "give exactly one of --material FILE and --problem3");
     const auto wavelengths = cl.range("wavelengths", "400:700:10");
-    const auto depths = cl.range("depths", "0:60:5");
+    const auto depths = cl.range("depths", "0:60:5", 0.0);
+    const double rows = static_cast<double>(wavelengths.size()) * static_cast<double>(depths.size());
+    if (rows > 1e6) {
+        std::string value = cl.text("wavelengths", "400:700:10");
+        value.append(" x ").append(cl.text("depths", "0:60:5"));
+        secchi::reject("--wavelengths x --depths", value, "gives more than a million rows");
+    }
     if (cl.has("problem3") && !cl.has("material-entry"))
         return write_csv(os, secchi::conformance::problem3_model(), wavelengths, depths);
     const auto model = secchi::io::read_iop_model_from_options(cl);
@@ -93,16 +99,15 @@ void run(const secchi::CommandLine& cl, std::ostream& os) {
 int main(int argc, char** argv) {
     return secchi::run_program(argc, argv, "iop_profile", usage, [&] {
         const secchi::CommandLine cl(argc, argv, {"material", "material-entry", "wavelengths", "depths", "seed", "out"}, {"problem3"});
-        std::ostringstream csv;  // the whole table first: an error midway leaves no partial output
-        run(cl, csv);
-        if (!cl.has("out")) {
-            std::cout << csv.str();
+        if (cl.has("out")) {  // checked first; written whole or not at all
+            secchi::OutputFile file("--out", cl.text("out"));
+            run(cl, file.stream());
+            file.commit();
             return 0;
         }
-        std::ofstream file(cl.text("out"));
-        file << csv.str();
-        file.close();
-        if (!file) secchi::reject("--out", cl.text("out"), "cannot be written");
+        std::ostringstream csv;  // the whole table first: an error midway leaves no partial output
+        run(cl, csv);
+        std::cout << csv.str();
         return 0;
     });
 }

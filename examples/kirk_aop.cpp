@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
         const CommandLine cl(argc, argv, {"photons", "threads"});
         TransportSettings s;
         s.photons = cl.count("photons", 200000);
-        s.threads = static_cast<unsigned>(cl.count("threads", 2));
+        s.threads = cl.threads(2);
         s.absorption = AbsorptionMode::continuous;
         s.validate();
         reflectance_table(s);

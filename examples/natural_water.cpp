@@ -8,6 +8,8 @@
 #include <secchi/optics/iop/scattering.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 namespace {
 constexpr const char* usage = R"(usage: natural_water [MATERIAL_FILE [ENTRY]]
@@ -22,6 +24,8 @@ with BULK_PROPERTIES).
 int main(int argc, char** argv) {
     using namespace secchi;
     return run_program(argc, argv, "natural_water", usage, [&] {
+        const CommandLine cl(argc, argv, {}, {}, 2);
+        const std::vector<std::string>& args = cl.positional();
         const double wavelength = 490.0;  // nm
         const auto depths = iop::uniform_depths(/*max m=*/100.0, /*spacing m=*/0.05);
         // Compile time: pure water plus chlorophyll-bearing particles (manual eq. 5.3-5.6).
@@ -31,8 +35,8 @@ int main(int argc, char** argv) {
             std::tuple{iop::Scatterer{iop::BuiteveldScattering(), pure_water_phase()},
                        iop::Scatterer{iop::GordonMorelScattering(chl), petzold_m93()}});
         // Run time: the same kind of medium from a material file.
-        const auto water = argc > 1 ? iop::stratify(io::read_iop_model(argv[1], 1, argc > 2 ? argv[2] : ""),
-                                                    wavelength, depths)
+        const auto water = !args.empty() ? iop::stratify(io::read_iop_model(args[0], 1, args.size() > 1 ? args[1] : ""),
+                                                         wavelength, depths)
                                     : iop::stratify(model, wavelength, depths);
 
         PlaneParallelConfig cfg;  // sun at 60 deg, flat surface, black sky, infinitely deep
@@ -40,7 +44,7 @@ int main(int argc, char** argv) {
         cfg.transport.depths = {1.0, 5.0, 10.0, 20.0};
         cfg.transport.threads = 2;
         const auto r = solve_stratified(water, cfg);
-        std::printf("%s water at %.0f nm (%s)\n", argc > 1 ? argv[1] : "composed Case-1", wavelength,
+        std::printf("%s water at %.0f nm (%s)\n", !args.empty() ? args[0].c_str() : "composed Case-1", wavelength,
                     r.phase_name.c_str());
         std::printf("%6s %21s %21s %21s   (value +- standard error)\n", "z (m)", "Ed", "Eou", "Lu");
         for (const auto& d : r.depths) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 namespace {
@@ -73,10 +74,8 @@ void print_table(const secchi::PlaneParallelResult& r) {
                 a.eu.value);
 }
 
-void write_json(const secchi::PlaneParallelResult& r, const std::string& path) {
-    std::ofstream os(path);
-    if (!os) secchi::reject("--json", path, "cannot be opened for writing");
-    secchi::JsonWriter j(os);
+void write_json(const secchi::PlaneParallelResult& r, secchi::OutputFile& file) {
+    secchi::JsonWriter j(file.stream());
     j.begin_object();
     j.value("photons_traced", static_cast<unsigned long long>(r.photons_traced));
     j.value("photons_stored", static_cast<unsigned long long>(r.photons_stored));
@@ -106,6 +105,7 @@ void write_json(const secchi::PlaneParallelResult& r, const std::string& path) {
     }
     j.end_array();
     j.end_object();
+    file.commit();
 }
 
 /// How --wind sets the facet slopes: Cox and Munk's isotropic fit or their anisotropic one.
@@ -170,7 +170,7 @@ secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     t.photons = cl.count("photons", 1'000'000);
     t.map_photons = cl.count("map-photons", std::min<std::uint64_t>(t.photons, 2'000'000));
     t.seed = cl.count("seed", 1);
-    t.threads = static_cast<unsigned>(cl.count("threads", 1));
+    t.threads = cl.threads(1);
     t.batches = static_cast<unsigned>(cl.count("batches", 32));
     t.absorption = secchi::parse_absorption(cl.text("absorption", "continuous"));
     cfg.store = secchi::parse_store(cl.text("store", "voi"));
@@ -207,9 +207,11 @@ int main(int argc, char** argv) {
                                       "tracer", "json"});
         const auto cfg = config_from(cl);
         const auto phase = secchi::parse_phase(cl.text("phase", "petzold"));
+        std::optional<secchi::OutputFile> json;  // checked before the work
+        if (cl.has("json")) json.emplace("--json", cl.text("json"));
         const auto result = std::visit([&](const auto& p) { return secchi::solve_plane_parallel(p, cfg); }, phase);
         print_table(result);
-        if (cl.has("json")) write_json(result, cl.text("json"));
+        if (json) write_json(result, *json);
         return 0;
     });
 }

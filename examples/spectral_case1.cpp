@@ -44,17 +44,25 @@ int main(int argc, char** argv) {
         const CommandLine cl(argc, argv, {"material", "wavelengths", "depths", "photons", "threads", "csv", "spectral-radius"});
         const std::string material = cl.text("material", "examples/materials/case1_chlorophyll.mat");
         const std::vector<double> wavelengths = cl.range("wavelengths", "400:700:10");
-        const std::vector<double> depths = cl.range("depths", "0:10:5");
-        const auto threads = static_cast<unsigned>(cl.count("threads", 2));
+        const std::vector<double> depths = cl.range("depths", "0:10:5", 0.0);
+        const auto threads = cl.threads(2);
         const std::uint64_t photons = cl.count("photons", 100'000);
         require(photons >= 1, "--photons", photons, "must be >= 1");
-        const std::string csv_path = cl.text("csv", "spectral_case1.csv");
         const double spectral_radius = cl.number("spectral-radius", 0.0);  // 0: no compensation
         if (cl.has("spectral-radius"))
             require(spectral_radius >= 0.05 && spectral_radius < 0.5, "--spectral-radius", spectral_radius,
                     "must lie in [0.05, 0.5) m: at least the collection radius, under half the section width");
-        std::ofstream csv(csv_path);  // opened before the work: a path that cannot be written fails at once
-        require(static_cast<bool>(csv), "--csv", csv_path, "cannot be opened for writing");
+        require(wavelengths.size() <= max_spectral_bands, "--wavelengths", cl.text("wavelengths", "400:700:10"),
+                "gives more bands than a spectral run holds (256)");
+        OutputFile csv_file("--csv", cl.text("csv", "spectral_case1.csv"));  // checked before the work
+        std::ostream& csv = csv_file.stream();
+
+        PlaneParallelConfig cfg;
+        cfg.sun_zenith_deg = 30.0;
+        cfg.transport.photons = cfg.transport.map_photons = photons;
+        cfg.transport.depths = depths;
+        cfg.transport.threads = threads;
+        require_first_pass_fits_in_memory<CompactRecord>(cfg.transport, static_cast<double>(wavelengths.size()));
 
         // The water at each band's wavelength, sampled every 5 cm to 300 m.
         const auto model = io::read_iop_model(material, 1, "");
@@ -71,11 +79,6 @@ int main(int argc, char** argv) {
             optics.emplace_back(water, cones);
         }
 
-        PlaneParallelConfig cfg;
-        cfg.sun_zenith_deg = 30.0;
-        cfg.transport.photons = cfg.transport.map_photons = photons;
-        cfg.transport.depths = depths;
-        cfg.transport.threads = threads;
         // The map holds every band's events down to where the deepest nadir ray of the clearest
         // band has faded to 1e-4, plus the collection radius.
         const Radius radius(0.05);
@@ -129,6 +132,7 @@ int main(int argc, char** argv) {
                 std::printf("%7.0f %12.4e +- %7.1e %12.4e +- %7.1e\n", wavelengths[k], lu.value, lu.se, c.value, c.se);
             }
         }
+        csv_file.commit();
         return 0;
     });
 }

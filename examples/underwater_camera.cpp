@@ -16,7 +16,8 @@
 #include <secchi/io/png_preview.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 #include <chrono>
-#include <filesystem>
+#include <map>
+#include <memory>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -36,14 +37,18 @@ int main(int argc, char** argv) {
     using namespace secchi;
     return run_program(argc, argv, "underwater_camera", usage, [&] {
         const CommandLine cl(argc, argv, {"map-photons", "size", "spp", "threads", "out"});
-        const auto threads = static_cast<unsigned>(cl.count("threads", 2));
-        const std::uint64_t size_option = cl.count("size", 256);
-        require(size_option >= 1 && size_option <= 8192, "--size", size_option, "must be 1 to 8192 pixels");
-        const int size = static_cast<int>(size_option);
+        const auto threads = cl.threads(2);
+        const int size = static_cast<int>(cl.count("size", 256, 1, 8192));
+        const auto spp = static_cast<unsigned>(cl.count("spp", 4, 1, 4096));
         const std::string out = cl.text("out", "camera_");
-        // The output's folder must exist before the work, not after it.
-        const std::filesystem::path folder = std::filesystem::path(out + "up.exr").parent_path();
-        require(folder.empty() || std::filesystem::is_directory(folder), "--out", out, "names a folder that does not exist");
+        // Every output checked (and written whole or not at all) before the work.
+        std::map<std::string, std::unique_ptr<OutputFile>> files;
+        for (const char* view : {"up", "level", "above", "distribution"})
+            for (const char* ext : {".exr", ".png"}) {
+                std::string name(view);
+                name += ext;
+                files[name] = std::make_unique<OutputFile>("--out", out + name);
+            }
 
         const auto water = examples::coastal_water();
         const PlaneParallelConfig cfg = examples::coastal_config(cl.count("map-photons", 1'000'000), threads);
@@ -55,10 +60,14 @@ int main(int argc, char** argv) {
         std::printf("map: %zu photons stored in %.1f s\n", mapped.map.store().records().size(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
-        const RenderSettings render_settings{static_cast<unsigned>(cl.count("spp", 4)), threads, 1};
+        const RenderSettings render_settings{spp, threads, 1};
         const auto save = [&](const Image& image, const std::string& name) {
-            write_exr(image, out + name + ".exr");
-            const double white = write_png_preview(image, "L", out + name + ".png");
+            OutputFile& exr = *files.at(name + ".exr");
+            OutputFile& png = *files.at(name + ".png");
+            write_exr(image, exr.partial_path());
+            const double white = write_png_preview(image, "L", png.partial_path());
+            exr.commit();
+            png.commit();
             std::printf("%-13s %4d x %-4d  white = %.3g W m^-2 sr^-1 nm^-1  -> %s%s.exr\n", name.c_str(), image.width(),
                         image.height(), white, out.c_str(), name.c_str());
         };

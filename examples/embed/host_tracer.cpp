@@ -237,16 +237,19 @@ private:
 };
 
 /// Runs row(y) for y in [0, rows) on `threads` of the host's own threads; the first exception
-/// a row throws stops the rest and is rethrown here.
+/// a row throws stops the rest and is rethrown here. Finished rows go to secchi's progress
+/// sink (core/progress.hpp), as a loop of secchi's own would.
 template <class Row>
 void for_each_row(int rows, unsigned threads, Row&& row) {
     std::atomic<int> next{0};
     std::exception_ptr error;
     std::mutex error_mutex;
+    const secchi::ProgressLoop progress(static_cast<std::size_t>(rows));
     const auto worker = [&] {
         for (int y; (y = next.fetch_add(1)) < rows;) {
             try {
                 row(y);
+                progress.advanced();
             } catch (...) {
                 const std::lock_guard lock(error_mutex);
                 if (!error) error = std::current_exception();
@@ -388,12 +391,10 @@ int main(int argc, char** argv) {
     using namespace secchi;
     return run_program(argc, argv, "embed_host", usage, [&] {
         const CommandLine cl(argc, argv, {"map-photons", "radius", "size", "threads", "out"});
-        const std::uint64_t thread_count = cl.count("threads", 2), size = cl.count("size", 128);
-        require(thread_count >= 1 && thread_count <= 1024, "--threads", thread_count, "must be in [1, 1024]");
-        require(size >= 2 && size <= 8192, "--size", size, "must be in [2, 8192]");
-        const auto threads = static_cast<unsigned>(thread_count);
-        const int height = static_cast<int>(size), width = height * 3 / 2;
+        const auto threads = cl.threads(2);
+        const int height = static_cast<int>(cl.count("size", 128, 2, 8192)), width = height * 3 / 2;
         const std::string out = cl.text("out", "embed_host");
+        OutputFile exr_file("--out", out + ".exr"), png_file("--out", out + ".png");  // checked before the work
         const auto t0 = std::chrono::steady_clock::now();
 
         // ---- secchi: the water and its photon map, built once ---------------------------------
@@ -459,8 +460,10 @@ int main(int argc, char** argv) {
         });
         for (const char* c : {"R", "G", "B"}) image.add_channel(c) = value;  // one band: grey
         const double render_seconds = seconds_since(t2);
-        write_exr(image, out + ".exr");
-        const double white = write_png_preview(image, "L", out + ".png");
+        write_exr(image, exr_file.partial_path());
+        const double white = write_png_preview(image, "L", png_file.partial_path());
+        exr_file.commit();
+        png_file.commit();
         std::printf("image: %d x %d in %.1f s; %d pixels see an object, %d of them in the host's shadows\n", width, height,
                     render_seconds, object_pixels.load(), shadowed_pixels.load());
         std::printf("wrote %s.exr (L, L.se, R, G, B in W m^-2 sr^-1 nm^-1 per unit E_perp) and %s.png (white = %.4g)\n",

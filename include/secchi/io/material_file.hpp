@@ -23,6 +23,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -140,7 +141,20 @@ inline std::string slurp(const std::filesystem::path& path, std::string_view wha
     std::ostringstream buf;
     buf << in.rdbuf();
     if (in.bad()) reject(what, path.string(), "cannot read file", path.string());
-    return buf.str();
+    std::string text = buf.str();
+    // A binary file is refused at its first control byte (tab, CR, LF and form feed are text).
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        if (c >= 0x20 || c == '\t' || c == '\r' || c == '\n' || c == '\f') continue;
+        std::string where = path.string();
+        where.append(":").append(std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(i), '\n')));
+        char byte[8];
+        std::snprintf(byte, sizeof byte, "0x%02x", c);
+        std::string reason("is not a text file (control byte ");
+        reason.append(byte).append(")");
+        reject(what, path.string(), reason, where);
+    }
+    return text;
 }
 
 /// Calls fn(line_number, line) for every line of text (1-based; '\n' or "\r\n" endings; a

@@ -261,6 +261,8 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
             "must be > 0 and < section_width / 2 (the collection volume's images come from the neighbouring sections)");
     require(cfg.ray_transmittance > 0.0 && cfg.ray_transmittance < 1.0, "ray transmittance", cfg.ray_transmittance,
             "must lie in (0, 1)");
+    require(cfg.steps >= 1, "steps", cfg.steps, "must be >= 1 (spheres along each ray)");
+    require(cfg.ray_grid >= 1 && cfg.ray_grid <= 1000, "ray grid", cfg.ray_grid, "must be 1 to 1000 (K x K rays per depth)");
     // Infinitely deep water is traced without a cut-off (photons end by absorption and roulette);
     // the map keeps the events down to the deepest Lu ray's end, plus the collection radius.
     if (cfg.transport.map_photons > 0) {

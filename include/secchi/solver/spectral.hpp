@@ -32,6 +32,9 @@
 
 namespace secchi::SECCHI_ISA {
 
+/// The most bands a spectral run holds: a record's band index is one byte.
+inline constexpr std::size_t max_spectral_bands = 256;
+
 /// A spectral run's first pass per band and its photon map of all bands.
 template <class Store>
 struct SpectralWater {
@@ -51,7 +54,9 @@ template <class Store, Medium M, class... StoreArgs>
 SpectralWater<Store> trace_spectral_map(const std::vector<M>& media, const std::vector<double>& wavelengths_nm,
                                         const PlaneParallelConfig& cfg, const StoreArgs&... store_args) {
     using Record = typename PhotonMap<Store>::Record;
-    require(!media.empty() && media.size() <= 256, "bands", media.size(), "must be 1 to 256 (a one-byte band index)");
+    require(!media.empty() && media.size() <= max_spectral_bands, "bands", media.size(),
+            "must be 1 to 256 (a one-byte band index)");
+    require_first_pass_fits_in_memory<Record>(cfg.transport, static_cast<double>(media.size()));
     require(wavelengths_nm.size() == media.size(), "wavelengths", wavelengths_nm.size(),
             "must be one per medium (" + std::to_string(media.size()) + ")");
     std::vector<PlaneParallelResult> results;

@@ -43,7 +43,9 @@ struct Block {
 inline std::vector<Block> make_blocks(std::uint64_t photons, unsigned batches, std::uint64_t block_size) {
     std::vector<Block> blocks;
     for (unsigned b = 0; b < batches; ++b) {
-        const std::uint64_t lo = photons * b / batches, hi = photons * (b + 1) / batches;
+        // photons * b / batches without overflow: photons = q batches + r.
+        const std::uint64_t q = photons / batches, r = photons % batches;
+        const std::uint64_t lo = q * b + r * b / batches, hi = q * (b + 1) + r * (b + 1) / batches;
         for (std::uint64_t s = lo; s < hi; s += block_size) blocks.push_back({s, std::min(hi, s + block_size), b});
     }
     return blocks;

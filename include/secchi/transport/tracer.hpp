@@ -15,6 +15,7 @@
 // (seed, i); photons are processed in fixed blocks, and block results are merged in block
 // order, so the output is bit-identical for any thread count.
 #include "secchi/core/config.hpp"
+#include "secchi/core/memory.hpp"
 #include "secchi/core/rng.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/map/record.hpp"
@@ -76,6 +77,20 @@ struct BlockResult {
 };
 
 }  // namespace detail
+
+/// input_error naming the photons or the map photons unless what a first pass of `s` allocates
+/// at the least fits in the physical memory, `runs` times over (a spectral map keeps every
+/// band's records): each block's bookkeeping and tallies, and one record per map photon (a
+/// stored photon scatters at least once, on average more). Checked before anything is allocated.
+template <PhotonRecord Record>
+void require_first_pass_fits_in_memory(const TransportSettings& s, double runs = 1.0) {
+    const double blocks = static_cast<double>(s.photons / std::max<std::uint64_t>(s.block_size, 1) + s.batches);
+    const double per_block = sizeof(detail::Block) + sizeof(detail::BlockResult<Record>) +
+                             static_cast<double>(s.depths.size()) * sizeof(IrradianceTally);
+    require_fits_in_memory(blocks * per_block, "photons", s.photons);
+    require_fits_in_memory(blocks * per_block + runs * static_cast<double>(s.map_photons) * sizeof(Record),
+                           "map photons", s.map_photons);
+}
 
 /// The policies: the water (Medium), what a stored event keeps (PhotonRecord), the air-water
 /// surface (AirWaterSurface), the light source (LightSource) and the irradiance detectors
@@ -149,6 +164,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         s.validate();
         require(s.batches <= record_max_batches<Record>(), "batches", s.batches,
                 "exceeds what the photon record can label (CompactRecord: 64)");
+        require_first_pass_fits_in_memory<Record>(s);
         return s;
     }
 
