@@ -273,22 +273,26 @@ Estimate quantity_of(const DepthResult& d, std::string_view q) {
     return d.lu;
 }
 
-/// Problem 3's water at 500 nm: the composed model, or the material file's, sampled every
-/// 5 cm to 100 m (below, the profile stays at its 100 m value: C is then 0.2 to 1e-9).
-StratifiedWater<AnyPhaseFunction> problem3_water(const CommandLine& cl) {
+/// run(water) with problem 3's water at 500 nm: the material file's (a run-time model:
+/// StratifiedWater<AnyPhaseFunction>) or the composed model's, which keeps its phase types
+/// (StratifiedWater<RayleighPhase, TabulatedPhase>: no variant per scattering event), sampled
+/// every 5 cm to 100 m (below, the profile stays at its 100 m value: C is then 0.2 to 1e-9).
+template <class Run>
+auto with_problem3_water(const CommandLine& cl, Run&& run) {
     const auto depths = iop::uniform_depths(100.0, 0.05);
     const double wl = conformance::problem3_wavelength_nm;
     if (cl.has("material") || cl.has("material-entry"))
-        return iop::stratify(io::read_iop_model_from_options(cl), wl, depths);
+        return run(iop::stratify(io::read_iop_model_from_options(cl), wl, depths));
     const std::string name = cl.text("petzold", "petzold");
     const AnyPhase particle = parse_phase(name);
     if (!std::holds_alternative<TabulatedPhase>(particle))
         reject("--petzold", name, "must be petzold, petzold-trapezoid or petzold-linear");
-    return iop::stratify(conformance::problem3_model(std::get<TabulatedPhase>(particle)), wl, depths);
+    return run(iop::stratify_typed(conformance::problem3_model(std::get<TabulatedPhase>(particle)), wl, depths));
 }
 
 /// z, C-free IOPs a, b, c, w0 every metre from 0 to 60 m (the manual's Fig. 7.30 as data).
-void write_profile_csv(const StratifiedWater<AnyPhaseFunction>& water, OutputFile& file) {
+template <class Water>
+void write_profile_csv(const Water& water, OutputFile& file) {
     std::ostream& os = file.stream();
     os << "depth_m,a_per_m,b_per_m,c_per_m,albedo\n";
     for (int z = 0; z <= 60; ++z) {
@@ -301,11 +305,11 @@ void write_profile_csv(const StratifiedWater<AnyPhaseFunction>& water, OutputFil
 
 PlaneParallelResult solve(const ProblemSpec& p, const CommandLine& cl, const PlaneParallelConfig& cfg,
                           OutputFile* profile_csv) {
-    if (p.id == "3") {
-        const auto water = problem3_water(cl);
-        if (profile_csv) write_profile_csv(water, *profile_csv);
-        return solve_stratified(water, cfg);
-    }
+    if (p.id == "3")
+        return with_problem3_water(cl, [&](const auto& water) {
+            if (profile_csv) write_profile_csv(water, *profile_csv);
+            return solve_stratified(water, cfg);
+        });
     const std::string phase = p.phase == "petzold" ? cl.text("petzold", "petzold") : p.phase;
     return std::visit([&](const auto& ph) { return solve_plane_parallel(ph, cfg); }, parse_phase(phase));
 }
@@ -636,7 +640,7 @@ int main(int argc, char** argv) {
             cfg.transport.validate();
             (void)detail::source_of(cfg);
             if (p.phase == "petzold") (void)parse_phase(cl.text("petzold", "petzold"));
-            if (p.id == "3") (void)problem3_water(cl);
+            if (p.id == "3") with_problem3_water(cl, [](const auto&) { return 0; });
         }
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<Entry> entries;

@@ -416,6 +416,36 @@ TEST_CASE("StratifiedRayOptics needs one cone per scattering component, and says
     CHECK_NOTHROW(StratifiedRayOptics(water, two));
 }
 
+TEST_CASE("StratifiedRayOptics of a typed water (a tuple of cones) equals that of its AnyPhaseFunction form, bit for bit") {
+    const auto depths = iop::uniform_depths(100.0, 0.05);
+    const auto typed = iop::stratify_typed(conformance::problem3_model(), 500.0, depths);
+    const auto any = iop::stratify(conformance::problem3_model(), 500.0, depths);
+    const auto cone = [](const auto& p) { return ConeAveragedPhase(p, 0.005); };
+    const auto typed_cones = typed.transform_phases(cone);
+    static_assert(std::tuple_size_v<std::decay_t<decltype(typed_cones)>> == 2);
+    const auto any_cones = any.transform_phases(cone);
+    const StratifiedRayOptics a(typed, typed_cones);
+    const StratifiedRayOptics b(any, any_cones);
+    CodedCosines cosines{};
+    for (std::size_t k = 0; k < cosines.size(); ++k) cosines[k] = -1.0 + 2.0 * static_cast<double>(k) / 255.0;
+    const auto ca = a.for_cosines(cosines);
+    const auto cb = b.for_cosines(cosines);
+    for (double z : {0.5, 17.0, 60.0})
+        for (double uz : {1.0, -0.5, 0.3}) {
+            const Ray ray{{0.0, 0.0, z}, {std::sqrt(1.0 - uz * uz), 0.0, uz}, 30.0};
+            INFO("z = " << z << ", uz = " << uz);
+            CHECK(a.transmittance(ray, 7.5) == b.transmittance(ray, 7.5));
+            for (std::size_t k = 0; k < cosines.size(); k += 15) {
+                CHECK(a.in_scatter(z, cosines[k], ray, 7.5) == b.in_scatter(z, cosines[k], ray, 7.5));
+                CHECK(ca.in_scatter(z, static_cast<std::uint8_t>(k), ray, 7.5) ==
+                      cb.in_scatter(z, static_cast<std::uint8_t>(k), ray, 7.5));
+            }
+        }
+    // A tuple of one cone for two components is refused as a vector of one is.
+    using Catch::Matchers::Contains;
+    CHECK_THROWS_WITH(StratifiedRayOptics(typed, std::tuple{cone(RayleighPhase{})}), Contains("cones") && Contains("1"));
+}
+
 TEST_CASE("Lu's rays follow the attenuation to the stated residual transmittance, or end at the bottom") {
     PlaneParallelConfig cfg;
     cfg.ray_transmittance = 1e-4;

@@ -9,11 +9,14 @@
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/petzold.hpp"
+#include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <bit>
 #include <cstdint>
 #include <random>
+#include <tuple>
+#include <type_traits>
 
 using namespace secchi;
 
@@ -167,6 +170,76 @@ TEST_CASE("stratified water: sample_direction is the direction of sample_phase, 
         check(mix, z);
         check(one, z);
     }
+}
+
+// The typed form holds each component on its own type: no variant between the sampler and
+// the phase functions (the single-type form of AnyPhaseFunction is the run-time one).
+using TypedMix = StratifiedWater<IsotropicPhase, HenyeyGreensteinPhase, RayleighPhase>;
+static_assert(std::is_same_v<TypedMix::storage_type, std::tuple<IsotropicPhase, HenyeyGreensteinPhase, RayleighPhase>>);
+static_assert(TypedMix::components() == 3);
+static_assert(Medium<TypedMix> && Medium<StratifiedWater<AnyPhaseFunction>>);
+static_assert(std::is_same_v<StratifiedWater<HenyeyGreensteinPhase>::storage_type, std::vector<HenyeyGreensteinPhase>>);
+static_assert(std::is_same_v<StratifiedWater<HenyeyGreensteinPhase>::phase_type, HenyeyGreensteinPhase>);
+
+TEST_CASE("stratified water: a typed mixture samples and evaluates as the same mixture of AnyPhaseFunction, bit for bit") {
+    // Isotropic, HG and Rayleigh components whose weights change with depth, a jump at 4 m, and
+    // a depth (1.5 m) where the isotropic one alone scatters.
+    DepthProfile p{{0.0, 1.5, 4.0, 4.0, 10.0},
+                   {0.05, 0.05, 0.05, 0.1, 0.1},
+                   {{0.5, 0.5, 0.2, 0.7, 0.1}, {0.0, 0.0, 0.9, 0.1, 0.4}, {0.0, 0.0, 0.0, 0.3, 0.02}}};
+    const IsotropicPhase iso;
+    const HenyeyGreensteinPhase hg(0.85);
+    const RayleighPhase ray;
+    const TypedMix typed(p, {iso, hg, ray}, 1.34);
+    const StratifiedWater<AnyPhaseFunction> any(p, {AnyPhaseFunction{iso}, AnyPhaseFunction{hg}, AnyPhaseFunction{ray}}, 1.34);
+    const auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
+    CHECK(typed.refractive_index() == any.refractive_index());
+    for (double z : {0.0, 0.7, 1.5, 2.9, 4.0, 6.5, 10.0, 25.0}) {
+        INFO("z = " << z);
+        for (auto k : {Coefficient::absorption, Coefficient::scattering, Coefficient::attenuation}) {
+            CHECK(same(typed.coefficient(k, z), any.coefficient(k, z)));
+            CHECK(same(typed.optical_path(k, z, 0.6, 3.0), any.optical_path(k, z, 0.6, 3.0)));
+        }
+        PhotonRng rng(23, 0);
+        int mismatches = 0;
+        for (int n = 0; n < 20000; ++n) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const PhaseSample a = typed.sample_phase(z, u1, u2), b = any.sample_phase(z, u1, u2);
+            const PhaseDirection c = scattering_direction(typed, z, u1, u2), d = scattering_direction(any, z, u1, u2);
+            if (!same(a.cos_psi, b.cos_psi) || !same(a.phi, b.phi) || !same(a.pdf, b.pdf)) ++mismatches;
+            if (!same(c.cos_psi, d.cos_psi) || !same(c.phi, d.phi) || !same(c.cos_psi, a.cos_psi)) ++mismatches;
+            const double mu = 2.0 * u1 - 1.0;
+            if (!same(typed.eval_phase(z, mu), any.eval_phase(z, mu))) ++mismatches;
+        }
+        CHECK(mismatches == 0);
+    }
+    // Each component on its own type, in order.
+    CHECK(typed.visit_phase(1, [](const auto& ph) { return std::string(ph.name()); }) == hg.name());
+    std::string names;
+    typed.for_each_phase([&](const auto& ph) { names += std::string(ph.name()) + ";"; });
+    std::string expected;
+    for (const auto& ph : any.phases()) expected += ph.name() + ";";
+    CHECK(names == expected);
+}
+
+TEST_CASE("stratified water: the typed form rejects invalid profiles as the single-type form does") {
+    using Two = StratifiedWater<IsotropicPhase, HenyeyGreensteinPhase>;
+    const Two::storage_type phases{IsotropicPhase{}, HenyeyGreensteinPhase(0.5)};
+    const std::vector<double> b{0.1, 0.1};
+    CHECK_NOTHROW(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b, b}}, phases));
+    // Negative absorption, decreasing depths, a first depth below the surface.
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 1.0}, {0.1, -0.1}, {b, b}}, phases), input_error);
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 2.0, 1.0}, {0.1, 0.1, 0.1}, {{0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}}}, phases),
+                    input_error);
+    CHECK_THROWS_AS(Two(DepthProfile{{0.5, 1.0}, {0.1, 0.1}, {b, b}}, phases), input_error);
+    // One scattering profile for two phase functions; a profile of the wrong length; negative or NaN b.
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b}}, phases), input_error);
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b, {0.1}}}, phases), input_error);
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b, {0.1, -0.2}}}, phases), input_error);
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b, {0.1, NAN}}}, phases), input_error);
+    CHECK_THROWS_AS(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b, b}}, phases, 0.9), input_error);  // refractive index < 1
+    using Catch::Matchers::Contains;
+    CHECK_THROWS_WITH(Two(DepthProfile{{0.0, 1.0}, {0.1, 0.1}, {b}}, phases), Contains("scattering components") && Contains("1"));
 }
 
 TEST_CASE("stratified water: analog, implicit capture and continuous absorption agree with scattering") {

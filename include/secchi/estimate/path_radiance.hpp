@@ -50,6 +50,7 @@
 #include <ranges>
 #include <span>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -193,20 +194,25 @@ struct HomogeneousRayOptics {
 template <class Water>
 struct StratifiedRayOptics {
     /// cones: one cone-averaged phase function per scattering component, in order (as many as
-    /// the water has, where it says: water.components()).
-    template <class ConePhase>
-    StratifiedRayOptics(const Water& water_, const std::vector<ConePhase>& cones)
-        : water(water_), phases(cones.begin(), cones.end()) {
+    /// the water has, where it says: water.components()): a std::vector of one cone type, or a
+    /// std::tuple of one cone per component (e.g. water.transform_phases of a typed water).
+    template <class Cones>
+    StratifiedRayOptics(const Water& water_, const Cones& cones) : water(water_) {
+        const std::size_t n = count_of(cones);
         if constexpr (requires { water_.components(); })
-            require(cones.size() == water_.components(), "cones", cones.size(),
+            require(n == water_.components(), "cones", n,
                     "needs one cone-averaged phase function per scattering component of the water");
         if constexpr (max_components > 0)
-            require(cones.size() <= max_components, "cones", cones.size(), "exceeds the water's max_components");
-        for (const auto& cone : cones) transmitted.push_back(cone.transmitted_fraction());
+            require(n <= max_components, "cones", n, "exceeds the water's max_components");
+        phases.reserve(n);
+        for_each_cone(cones, [&](const auto& cone) {
+            phases.emplace_back(cone);
+            transmitted.push_back(cone.transmitted_fraction());
+        });
     }
     /// The optics refer to the water: a temporary one would be gone before the first query.
-    template <class ConePhase>
-    StratifiedRayOptics(const Water&&, const std::vector<ConePhase>&) = delete;
+    template <class Cones>
+    StratifiedRayOptics(const Water&&, const Cones&) = delete;
     const Water& water;
     std::vector<ChordTable> phases;
     std::vector<double> transmitted;  ///< f_i of each component's cone
@@ -226,6 +232,20 @@ struct StratifiedRayOptics {
             if (transmitted[i] > 0.0)
                 tau -= transmitted[i] * water.component_optical_path(i, ray.origin.z, ray.direction.z, t);
         return exp_table(-tau);
+    }
+
+    /// A tuple's cones one by one, or a range's.
+    template <class Cones>
+    static constexpr bool is_tuple = requires { std::tuple_size<Cones>::value; };
+    template <class Cones>
+    static std::size_t count_of(const Cones& cones) {
+        if constexpr (is_tuple<Cones>) return std::tuple_size_v<Cones>;
+        else return std::size(cones);
+    }
+    template <class Cones, class F>
+    static void for_each_cone(const Cones& cones, F&& f) {
+        if constexpr (is_tuple<Cones>) std::apply([&](const auto&... c) { (f(c), ...); }, cones);
+        else for (const auto& c : cones) f(c);
     }
 
     /// Up to this many components can be tabulated per ray (for_cosines); 0: none.

@@ -20,6 +20,16 @@
 // probability b_i(z) / b(z) using u1, then reuses u1 rescaled to its interval, so sampling
 // still takes two uniforms.
 //
+// The components' phase types are part of the water's type:
+//   StratifiedWater<P>           any number of components (1 to 8), all of type P, in a
+//                                std::vector<P>; P = AnyPhaseFunction where the types are known
+//                                at run time only (iop::stratify of a material file);
+//   StratifiedWater<P0, P1, ...> one component per listed type, in a std::tuple<P0, P1, ...>
+//                                (e.g. problem 3's Rayleigh water and Petzold particles): every
+//                                component is called on its own type, with no variant.
+// Both forms share one implementation and give the same numbers for the same phase functions:
+// the component is chosen by the same arithmetic, then called on its type.
+//
 // How finely a smooth model (e.g. a Gaussian chlorophyll profile) must be sampled is the
 // caller's choice: linear interpolation errs by at most h^2 max|k''| / 8 for node spacing h.
 #include "secchi/core/config.hpp"
@@ -31,6 +41,9 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace secchi::SECCHI_ISA {
@@ -42,17 +55,93 @@ struct DepthProfile {
     std::vector<std::vector<double>> scattering;  ///< scattering[i][k] = b_i(z_k) (1/m)
 };
 
+namespace detail {
+
+/// The scattering components' phase functions of a StratifiedWater<Phases...>.
+template <class... Phases>
+class StratifiedPhases;
+
+/// Any number of components of one type, in order.
 template <PhaseFunction Phase>
-class StratifiedWater {
+class StratifiedPhases<Phase> {
 public:
     using phase_type = Phase;
+    using storage_type = std::vector<Phase>;
+
+    [[nodiscard]] std::size_t components() const { return phases_.size(); }
+    [[nodiscard]] const std::vector<Phase>& phases() const { return phases_; }
+    /// f(p_i) for component i < components().
+    template <class F>
+    decltype(auto) visit_phase(std::size_t i, F&& f) const {
+        return f(phases_[i]);
+    }
+    /// f(p_i) for each component, as a std::vector.
+    template <class F>
+    [[nodiscard]] auto transform_phases(F&& f) const {
+        std::vector<std::decay_t<std::invoke_result_t<F&, const Phase&>>> out;
+        out.reserve(phases_.size());
+        for (const auto& p : phases_) out.push_back(f(p));
+        return out;
+    }
+
+protected:
+    explicit StratifiedPhases(std::vector<Phase> phases) : phases_(std::move(phases)) {}
+
+private:
+    std::vector<Phase> phases_;
+};
+
+/// One component per type, in order: each is called on its own type.
+template <PhaseFunction P0, PhaseFunction P1, PhaseFunction... Rest>
+class StratifiedPhases<P0, P1, Rest...> {
+public:
+    using storage_type = std::tuple<P0, P1, Rest...>;
+
+    [[nodiscard]] static constexpr std::size_t components() { return 2 + sizeof...(Rest); }
+    [[nodiscard]] const storage_type& phases() const { return phases_; }
+    /// f(p_i) for component i < components() (f returns the same type for every component).
+    template <std::size_t I = 0, class F>
+    auto visit_phase(std::size_t i, F&& f) const {
+        if constexpr (I + 1 == components()) {
+            return f(std::get<I>(phases_));
+        } else {
+            if (i == I) return f(std::get<I>(phases_));
+            return visit_phase<I + 1>(i, f);
+        }
+    }
+    /// f(p_i) for each component, as a std::tuple.
+    template <class F>
+    [[nodiscard]] auto transform_phases(F&& f) const {
+        return std::apply([&](const auto&... p) { return std::make_tuple(f(p)...); }, phases_);
+    }
+
+protected:
+    explicit StratifiedPhases(storage_type phases) : phases_(std::move(phases)) {}
+
+private:
+    storage_type phases_;
+};
+
+}  // namespace detail
+
+/// Depth-varying water with scattering components of the phase types Phases (see the header
+/// comment: one type for a vector of components, several for one component each).
+template <PhaseFunction... Phases>
+class StratifiedWater : public detail::StratifiedPhases<Phases...> {
+    using Components = detail::StratifiedPhases<Phases...>;
+
+public:
     static constexpr std::size_t max_components = 8;
+    static_assert(sizeof...(Phases) >= 1 && sizeof...(Phases) <= max_components,
+                  "StratifiedWater: 1 to 8 phase types");
+    /// The phase functions: std::vector<P> for StratifiedWater<P>, std::tuple<P0, P1, ...> else.
+    using storage_type = typename Components::storage_type;
 
     /// refractive_index: the water's real index of refraction at the run's wavelength, where the
     /// medium's description gives one (a material's REFRACTIVE_INDEX_MODEL, manual 5.9); the
     /// solver's surface takes it unless told otherwise.
-    StratifiedWater(DepthProfile profile, std::vector<Phase> phases, std::optional<double> refractive_index = {})
-        : z_(std::move(profile.depth)), b_i_(std::move(profile.scattering)), phases_(std::move(phases)),
+    StratifiedWater(DepthProfile profile, storage_type phases, std::optional<double> refractive_index = {})
+        : Components(std::move(phases)), z_(std::move(profile.depth)), b_i_(std::move(profile.scattering)),
           refractive_index_(refractive_index) {
         if (refractive_index_)
             require(std::isfinite(*refractive_index_) && *refractive_index_ >= 1.0, "refractive index of water",
@@ -73,9 +162,16 @@ public:
         detect_uniform_spacing();
     }
 
-    [[nodiscard]] std::size_t components() const { return phases_.size(); }
+    using Components::components;
+    using Components::phases;
+    using Components::transform_phases;
+    using Components::visit_phase;
+    /// f(p_i) for each component in order.
+    template <class F>
+    void for_each_phase(F&& f) const {
+        for (std::size_t i = 0; i < components(); ++i) visit_phase(i, f);
+    }
     [[nodiscard]] std::optional<double> refractive_index() const { return refractive_index_; }
-    [[nodiscard]] const std::vector<Phase>& phases() const { return phases_; }
     [[nodiscard]] const std::vector<double>& depths() const { return z_; }
 
     /// k(z) (1/m), linear between nodes.
@@ -113,7 +209,7 @@ public:
     }
     /// The direction of sample_phase(z, u1, u2) without its density (what transport needs).
     [[nodiscard]] PhaseDirection sample_direction(double z, double u1, double u2) const {
-        return choose_component(z, u1, [&](const Phase& p, double v) { return sample_direction_of(p, v, u2); });
+        return choose_component(z, u1, [&](const auto& p, double v) { return sample_direction_of(p, v, u2); });
     }
 
     /// sum_i (b_i(z) / b(z)) f(i): a mixture over the components at depth z (eq. 5.5-5.6),
@@ -123,20 +219,22 @@ public:
         std::array<double, max_components> w{};
         const double b = weights(z, w);
         double sum = 0.0;
-        for (std::size_t i = 0; i < phases_.size(); ++i) sum = mul_add(w[i], f(i), sum);
+        for (std::size_t i = 0; i < components(); ++i) sum = mul_add(w[i], f(i), sum);
         return b > 0.0 ? sum / b : 0.0;
     }
 
     /// Phase function of the mixture at depth z (1/sr).
     [[nodiscard]] double eval_phase(double z, double cos_psi) const {
-        return mixture(z, [&](std::size_t i) { return phases_[i].eval(cos_psi); });
+        return mixture(z, [&](std::size_t i) {
+            return visit_phase(i, [&](const auto& p) { return static_cast<double>(p.eval(cos_psi)); });
+        });
     }
 
     /// b_i(z) into w (unnormalised mixture weights); returns b(z) = sum_i b_i(z).
     double weights(double z, std::array<double, max_components>& w) const {
         const std::size_t j = cell(z);
         double b = 0.0;
-        for (std::size_t i = 0; i < phases_.size(); ++i) b += (w[i] = interpolate_in(b_i_[i], j, z));
+        for (std::size_t i = 0; i < components(); ++i) b += (w[i] = interpolate_in(b_i_[i], j, z));
         return b;
     }
 
@@ -145,16 +243,17 @@ private:
 
     /// The component choice of sample_phase: component i with probability b_i(z) / b(z) by
     /// u1, then f(p_i, v) with u1 rescaled to v within i's interval (u1 itself when there is
-    /// one component).
+    /// one component). f is called on component i's own type.
     template <class F>
     [[nodiscard]] auto choose_component(double z, double u1, F&& f) const {
-        if (phases_.size() == 1) return f(phases_[0], u1);
+        if (components() == 1) return visit_phase(0, [&](const auto& p) { return f(p, u1); });
         std::array<double, max_components> w{};
         const double target = u1 * weights(z, w);
         double lo = 0.0;
         std::size_t i = 0;
-        while (i + 1 < phases_.size() && target >= lo + w[i]) lo += w[i++];
-        return f(phases_[i], std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53));
+        while (i + 1 < components() && target >= lo + w[i]) lo += w[i++];
+        const double v = std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53);
+        return visit_phase(i, [&](const auto& p) { return f(p, v); });
     }
 
     static int index(Coefficient k) { return k == Coefficient::absorption ? 0 : k == Coefficient::scattering ? 1 : 2; }
@@ -163,9 +262,9 @@ private:
         require(!z_.empty() && z_.front() == 0.0, "depth profile: first depth (m)", z_.empty() ? NAN : z_.front(),
                 "must be 0 (the surface)");
         require(a.size() == z_.size(), "depth profile: absorption values", a.size(), "must match the depth nodes");
-        require(!phases_.empty() && phases_.size() <= max_components, "scattering components", phases_.size(),
+        require(components() >= 1 && components() <= max_components, "scattering components", components(),
                 "must be 1 to 8");
-        require(b_i_.size() == phases_.size(), "depth profile: scattering components", b_i_.size(),
+        require(b_i_.size() == components(), "depth profile: scattering components", b_i_.size(),
                 "must match the phase functions");
         for (std::size_t j = 0; j < z_.size(); ++j) {
             require(std::isfinite(z_[j]) && (j == 0 || z_[j] >= z_[j - 1]), "depth profile: depth (m)", z_[j],
@@ -285,7 +384,6 @@ private:
     std::array<std::vector<std::size_t>, 3> bin_node_;
     std::vector<std::vector<double>> b_i_;
     std::vector<std::vector<double>> component_cumulative_;  ///< int b_i at the nodes
-    std::vector<Phase> phases_;
     std::optional<double> refractive_index_;
     double inverse_spacing_ = 0.0;  ///< 1 / h for equally spaced nodes, else 0
 };

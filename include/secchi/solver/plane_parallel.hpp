@@ -332,17 +332,16 @@ PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallel
 }
 
 /// Depth-varying water: each scattering component's phase function averaged over cfg.omega.
-template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
-PlaneParallelResult solve_stratified(const StratifiedWater<Phase>& water, const PlaneParallelConfig& cfg) {
-    std::vector<ConeAveragedPhase<Phase>> cones;
-    for (const auto& p : water.phases()) cones.emplace_back(p, cfg.omega, cfg.cone_peak);
+template <PhotonRecord Record = CompactRecord, PhaseFunction... Phases>
+PlaneParallelResult solve_stratified(const StratifiedWater<Phases...>& water, const PlaneParallelConfig& cfg) {
+    const auto cones = water.transform_phases([&](const auto& p) { return ConeAveragedPhase(p, cfg.omega, cfg.cone_peak); });
     const StratifiedRayOptics optics(water, cones);
     auto out = solve_plane_parallel_in<Record>(water, optics, cfg);
     out.phase_name = "mixture";
-    for (const auto& p : water.phases()) {
+    water.for_each_phase([&](const auto& p) {
         out.phase_name += ' ';
         out.phase_name += p.name();
-    }
+    });
     return out;
 }
 

@@ -13,7 +13,8 @@
 //    (io/material_medium.hpp).
 // Both expose absorption(x, lambda), for_each_scatterer(f) and refractive_index(lambda), and
 // stratify() turns either into the transport's StratifiedWater at one wavelength (the
-// manual's concentrations vary with depth only, 5.10), so both forms give identical values.
+// manual's concentrations vary with depth only, 5.10), so both forms give identical values;
+// stratify_typed() does the same for a compile-time model and keeps its phase types.
 #include "secchi/core/config.hpp"
 #include "secchi/optics/iop/coefficient.hpp"
 #include "secchi/optics/iop/iop_model.hpp"
@@ -54,6 +55,7 @@ public:
         std::apply([&](const auto&... s) { (f(s), ...); }, scatterers_);
     }
     [[nodiscard]] double refractive_index(double wavelength_nm) const { return n_(wavelength_nm); }
+    [[nodiscard]] const Scatterers& scatterers() const { return scatterers_; }
 
 private:
     Absorbers absorbers_;
@@ -103,23 +105,51 @@ inline std::vector<double> uniform_depths(double max_depth, double spacing) {
     return z;
 }
 
-/// The model at one wavelength as the transport's depth profile: a and every b_i sampled at
-/// the depth nodes (x = (0, 0, z)), linear in between (stratified_water.hpp), and the water's
-/// refractive index at that wavelength (which the surface then takes).
+namespace detail {
+
+/// a and every b_i of the model at one wavelength, sampled at the depth nodes (x = (0, 0, z)).
 template <class Model>
-StratifiedWater<AnyPhaseFunction> stratify(const Model& m, double wavelength_nm, std::span<const double> depths) {
+DepthProfile sample_profile(const Model& m, double wavelength_nm, std::span<const double> depths) {
     DepthProfile profile;
     profile.depth.assign(depths.begin(), depths.end());
-    std::vector<AnyPhaseFunction> phases;
     for (double z : depths) profile.absorption.push_back(m.absorption({0.0, 0.0, z}, wavelength_nm));
     m.for_each_scatterer([&](const auto& s) {
         std::vector<double> b;
         b.reserve(depths.size());
         for (double z : depths) b.push_back(s.coefficient.coefficient({0.0, 0.0, z}, wavelength_nm));
         profile.scattering.push_back(std::move(b));
-        phases.push_back(to_any_phase(s.phase));
     });
-    return StratifiedWater<AnyPhaseFunction>(std::move(profile), std::move(phases), m.refractive_index(wavelength_nm));
+    return profile;
+}
+
+}  // namespace detail
+
+/// The model at one wavelength as the transport's depth profile: a and every b_i sampled at
+/// the depth nodes (x = (0, 0, z)), linear in between (stratified_water.hpp), and the water's
+/// refractive index at that wavelength (which the surface then takes). The phase functions
+/// as AnyPhaseFunction: one water type for either model form (a material file's types are
+/// known at run time only).
+template <class Model>
+StratifiedWater<AnyPhaseFunction> stratify(const Model& m, double wavelength_nm, std::span<const double> depths) {
+    std::vector<AnyPhaseFunction> phases;
+    m.for_each_scatterer([&](const auto& s) { phases.push_back(to_any_phase(s.phase)); });
+    return StratifiedWater<AnyPhaseFunction>(detail::sample_profile(m, wavelength_nm, depths), std::move(phases),
+                                             m.refractive_index(wavelength_nm));
+}
+
+/// stratify() of a model composed at compile time, keeping its scatterers' phase types:
+/// StratifiedWater<P0, P1, ...> (StratifiedWater<P0> for one scatterer), whose transport calls
+/// each phase function on its own type. Same profile and phase functions as stratify(), so the
+/// same numbers.
+template <class Absorbers, class... B, class... P>
+StratifiedWater<P...> stratify_typed(const LinearIopModel<Absorbers, std::tuple<Scatterer<B, P>...>>& m,
+                                     double wavelength_nm, std::span<const double> depths) {
+    auto phases = [&] {
+        if constexpr (sizeof...(P) == 1) return std::vector<P...>{std::get<0>(m.scatterers()).phase};
+        else return std::apply([](const auto&... s) { return std::tuple<P...>{s.phase...}; }, m.scatterers());
+    }();
+    return StratifiedWater<P...>(detail::sample_profile(m, wavelength_nm, depths), std::move(phases),
+                                 m.refractive_index(wavelength_nm));
 }
 
 }  // namespace secchi::iop
