@@ -155,7 +155,7 @@ Image radiance_distribution(const Estimator& est, double depth, const Distributi
     require(settings.rays_per_cell >= 1, "rays per cell", settings.rays_per_cell, "must be >= 1");
     const auto& map = est.map();
     const double width = map.section_width();
-    return detail::radiance_image(settings.columns, settings.rows, map.bands(), settings.threads,
+    return detail::radiance_image(settings.columns, settings.rows, map.wavelengths_nm(), settings.threads,
                                   [&](std::size_t i, unsigned band) {
                                       const std::size_t k = i % static_cast<std::size_t>(settings.columns);
                                       const std::size_t j = i / static_cast<std::size_t>(settings.columns);
