@@ -48,8 +48,9 @@ struct WaterChoice {
     std::optional<double> albedo, attenuation;
     const Material* material = nullptr;
 
-    /// The homogeneous water's phase function, or input_error where a material is given too.
+    /// The homogeneous water's phase function (default Petzold's, as slab's).
     [[nodiscard]] Phase phase_function() const { return Phase{secchi::parse_phase(phase.value_or("petzold"))}; }
+    /// input_error where a material's water comes with homogeneous water's parameters.
     void check() const {
         if (!material) return;
         if (phase) secchi::reject("phase", *phase, "conflicts with water (a material brings its own phase functions)");
@@ -144,12 +145,14 @@ struct Result {
 Result solve(const WaterChoice& water, const ProblemArgs& args, const std::string& store) {
     secchi::PlaneParallelConfig cfg = args.config(water);
     cfg.store = secchi::parse_store(store);
-    const Phase phase = water.material ? Phase{} : water.phase_function();
     secchi::PlaneParallelResult r;
-    {
+    if (water.material) {
         py::gil_scoped_release release;
-        r = water.material ? secchi::solve_stratified(*water.material->water, cfg)
-                           : secchi::solve_plane_parallel(phase, cfg);
+        r = secchi::solve_stratified(*water.material->water, cfg);
+    } else {
+        const Phase phase = water.phase_function();
+        py::gil_scoped_release release;
+        r = secchi::solve_plane_parallel(phase, cfg);
     }
     return Result(r, true);
 }
