@@ -14,6 +14,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <secchi/io/material_medium.hpp>
 #include <secchi/solver/phase_choice.hpp>
@@ -278,7 +279,7 @@ py::tuple radiance(const PhotonMapHandle& m, const py::array_t<double, py::array
     return py::make_tuple(values, ses);
 }
 
-Material read_material(const std::string& path, double wavelength_nm, std::optional<std::vector<double>> depths,
+Material read_material(const std::filesystem::path& path, double wavelength_nm, std::optional<std::vector<double>> depths,
                        const std::string& entry, std::uint64_t seed) {
     secchi::require(std::isfinite(wavelength_nm) && wavelength_nm > 0.0, "wavelength_nm", wavelength_nm,
                     "must be finite and > 0");
@@ -286,7 +287,7 @@ Material read_material(const std::string& path, double wavelength_nm, std::optio
     py::gil_scoped_release release;
     return {std::make_shared<const Stratified>(
                 secchi::iop::stratify(secchi::io::read_iop_model(path, seed, entry), wavelength_nm, z)),
-            path, wavelength_nm};
+            path.string(), wavelength_nm};
 }
 
 /// Material's coefficient k at its depth nodes.

@@ -100,7 +100,8 @@ def test_read_material_gives_the_iops_at_depth_nodes():
 
 
 def test_read_material_of_a_pure_water_file():
-    m = secchi.read_material(str(MATERIALS / "purewater.mat"), 500, depths=[0, 1])
+    m = secchi.read_material(MATERIALS / "purewater.mat", 500, depths=[0, 1])  # a str or any os.PathLike
+    assert m.path == str(MATERIALS / "purewater.mat")
     np.testing.assert_allclose(m.absorption, m.absorption[0])  # homogeneous
     assert 0.01 < m.absorption[0] < 0.05 and 0.001 < m.scattering[0] < 0.005  # pure water at 500 nm
 
