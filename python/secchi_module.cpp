@@ -220,7 +220,8 @@ PhotonMapHandle trace_map(const WaterChoice& water, const ProblemArgs& args) {
     return handle;
 }
 
-/// The rows of an (N, 3) array, or one row (3,) repeated n times (n = 0: its own count).
+/// The rows of an (N, 3) array, or the one vector of a (3,) array; input_error naming the
+/// array otherwise.
 std::vector<secchi::vec3> vectors_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
                                      const char* name) {
     const bool one = a.ndim() == 1 && a.shape(0) == 3;
