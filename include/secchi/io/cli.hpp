@@ -15,6 +15,7 @@
 #include <initializer_list>
 #include <iostream>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -165,7 +166,7 @@ private:
 
 /// An output file written whole or not at all. The constructor checks the path before any work
 /// (input_error naming `option` and the path if it is empty, a folder, in a folder that does
-/// not exist, or cannot be created) and opens PATH.partial; the content goes there (stream(),
+/// not exist, or cannot be created) and opens PATH.partial.<token>; the content goes there (stream(),
 /// or any writer given partial_path()) and commit() renames it onto PATH. Without commit()
 /// (an error on the way) the partial file is removed and PATH is left as it was.
 class OutputFile {
@@ -177,8 +178,9 @@ public:
         if (fs::is_directory(path_, ec)) reject(option_, path_, "is a folder, not a file");
         const fs::path folder = fs::path(path_).parent_path();
         if (!folder.empty() && !fs::is_directory(folder, ec)) reject(option_, path_, "names a folder that does not exist");
-        partial_ = path_;
-        partial_ += ".partial";
+        partial_ = path_;  // PATH.partial.<token>: unique per writer, so runs writing one PATH do not collide
+        partial_ += ".partial.";
+        partial_ += std::to_string(std::random_device{}());
         stream_.open(partial_, std::ios::binary | std::ios::trunc);
         if (!stream_) reject(option_, path_, "cannot be opened for writing");
     }
