@@ -5,7 +5,6 @@
 #include "secchi/core/error.hpp"
 #include <cstdint>
 #include <limits>
-#include <source_location>
 #include <string>
 #include <string_view>
 #if __has_include(<unistd.h>)
@@ -27,7 +26,7 @@ inline std::uint64_t physical_memory_bytes() {
 /// asks for) exceed the physical memory.
 template <class Value>
 void require_fits_in_memory(double bytes, std::string_view parameter, const Value& value,
-                            std::source_location loc = std::source_location::current()) {
+                            source_location loc = source_location::current()) {
     const double available = static_cast<double>(physical_memory_bytes());
     if (bytes <= available) return;
     std::string reason("needs at least ");
