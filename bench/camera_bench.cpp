@@ -68,10 +68,10 @@ int main(int argc, char** argv) {
         const PhotonMap kd(KdTreeStore<CompactRecord>(records), grid.flux(), grid.batches(), grid.scene(), grid.bottom_ed());
 
         const HomogeneousRayOptics optics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(), water.scattering());
-        const VoiCylinder cylinder(0.0, cfg.bottom.depth);
+        const VoiCylinder cylinder(0.0, cfg.bottom.depth());
         const RadianceEstimator by_grid(grid, cylinder, optics, radius);
         const RadianceEstimator by_octree(octree, cylinder, optics, radius);
-        const RadianceEstimator by_kd(kd, StepSpheres(static_cast<unsigned>(cl.count("steps", 64)), 0.0, cfg.bottom.depth),
+        const RadianceEstimator by_kd(kd, StepSpheres(static_cast<unsigned>(cl.count("steps", 64)), 0.0, cfg.bottom.depth()),
                                       optics, radius);
 
         const PinholeCamera camera({{0.5, 0.5, 4.0}, {0.0, 0.0, -1.0}, {1.0, 0.0, 0.0}, 120.0, size, size});

@@ -178,7 +178,7 @@ struct MapQueries final : RayQueries {
     MapQueries(secchi::MappedWater<MapStore> m, std::shared_ptr<const Stratified> w, const Optics& optics,
                const secchi::PlaneParallelConfig& cfg)
         : mapped(std::move(m)), water(std::move(w)),
-          estimator(mapped.map, secchi::VoiCylinder(0.0, cfg.bottom.depth), optics, secchi::Radius(cfg.radius),
+          estimator(mapped.map, secchi::VoiCylinder(0.0, cfg.bottom.depth()), optics, secchi::Radius(cfg.radius),
                     secchi::RadianceSettings{cfg.ray_transmittance}) {}
     MapQueries(const MapQueries&) = delete;
     MapQueries& operator=(const MapQueries&) = delete;

@@ -15,6 +15,7 @@
 
 #include "secchi/core/error.hpp"
 #include "secchi/core/rng.hpp"
+#include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
 namespace secchi::test {
@@ -111,6 +112,26 @@ void check_sampling(const P& p, std::uint64_t seed) {
 
 /// Bitwise equality of doubles (tells -0.0 from 0.0; a NaN equals the same NaN).
 inline bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+/// Two forms of one stratified water (e.g. a typed StratifiedWater and its AnyPhaseFunction
+/// form): how many of n pairs of uniforms from PhotonRng(seed, 0) give, at depth z, a phase
+/// sample, a scattering direction (equal to the sample's cos_psi) or a phase value eval_phase(z,
+/// 2 u1 - 1) that differ between them in any bit.
+template <class A, class B>
+int phase_mismatches_at(const A& a, const B& b, double z, std::uint64_t seed, int n) {
+    PhotonRng rng(seed, 0);
+    int mismatches = 0;
+    for (int i = 0; i < n; ++i) {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        const PhaseSample x = a.sample_phase(z, u1, u2), y = b.sample_phase(z, u1, u2);
+        const PhaseDirection c = scattering_direction(a, z, u1, u2), d = scattering_direction(b, z, u1, u2);
+        if (!same_bits(x.cos_psi, y.cos_psi) || !same_bits(x.phi, y.phi) || !same_bits(x.pdf, y.pdf)) ++mismatches;
+        if (!same_bits(c.cos_psi, d.cos_psi) || !same_bits(c.phi, d.phi) || !same_bits(c.cos_psi, x.cos_psi)) ++mismatches;
+        const double mu = 2.0 * u1 - 1.0;
+        if (!same_bits(a.eval_phase(z, mu), b.eval_phase(z, mu))) ++mismatches;
+    }
+    return mismatches;
+}
 
 /// (d): sample_direction_of(p, u1, u2), i.e. p.sample_direction where p has one, is exactly
 /// the cos_psi and phi of p.sample(u1, u2), bit for bit, over n pairs of uniforms from

@@ -4,6 +4,7 @@
 // model's phase types against the AnyPhaseFunction one.
 #include <catch2/catch.hpp>
 #include "../conformance/problem3.hpp"
+#include "phase_checks.hpp"
 #include "secchi/core/rng.hpp"
 #include <bit>
 #include <cmath>
@@ -47,21 +48,12 @@ TEST_CASE("problem 3: the typed water (Rayleigh + Petzold, no variant) is the An
     const auto typed = iop::stratify_typed(conformance::problem3_model(), 500.0, depths);
     const auto any = iop::stratify(conformance::problem3_model(), 500.0, depths);
     static_assert(std::is_same_v<std::decay_t<decltype(typed)>, StratifiedWater<RayleighPhase, TabulatedPhase>>);
-    const auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
+    const auto same = test::same_bits;
     REQUIRE(typed.refractive_index() == any.refractive_index());
     for (double z : {0.0, 3.3, 17.0, 42.025, 60.0, 150.0}) {
         INFO("z = " << z << " m");
         for (auto k : {Coefficient::absorption, Coefficient::scattering, Coefficient::attenuation})
             CHECK(same(typed.coefficient(k, z), any.coefficient(k, z)));
-        PhotonRng rng(3, 0);
-        int mismatches = 0;
-        for (int n = 0; n < 5000; ++n) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            const PhaseSample a = typed.sample_phase(z, u1, u2), b = any.sample_phase(z, u1, u2);
-            const PhaseDirection c = scattering_direction(typed, z, u1, u2), d = scattering_direction(any, z, u1, u2);
-            if (!same(a.cos_psi, b.cos_psi) || !same(a.phi, b.phi) || !same(a.pdf, b.pdf)) ++mismatches;
-            if (!same(c.cos_psi, d.cos_psi) || !same(c.phi, d.phi)) ++mismatches;
-        }
-        CHECK(mismatches == 0);
+        CHECK(test::phase_mismatches_at(typed, any, z, 3, 5000) == 0);
     }
 }

@@ -4,6 +4,7 @@
 // choice, and unbiasedness of every transport option against a reference run. Statistical
 // checks use 4 measured standard errors, fixed in advance.
 #include <catch2/catch.hpp>
+#include "phase_checks.hpp"
 #include "secchi/core/rng.hpp"
 #include "secchi/optics/phase/any_phase.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -150,7 +151,7 @@ TEST_CASE("stratified water: sample_direction is the direction of sample_phase, 
     const StratifiedWater<AnyPhaseFunction> mix(p, {AnyPhaseFunction{pure_water_phase()}, AnyPhaseFunction{petzold_m93()}});
     DepthProfile q{{0.0, 10.0}, {0.05, 0.05}, {{0.2, 0.5}}};
     const StratifiedWater<TabulatedPhase> one(q, {petzold_m93()});
-    const auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
+    const auto same = test::same_bits;
     const auto check = [&](const auto& w, double z) {
         INFO("z = " << z);
         PhotonRng rng(17, 0);
@@ -192,7 +193,7 @@ TEST_CASE("stratified water: a typed mixture samples and evaluates as the same m
     const RayleighPhase ray;
     const TypedMix typed(p, {iso, hg, ray}, 1.34);
     const StratifiedWater<AnyPhaseFunction> any(p, {AnyPhaseFunction{iso}, AnyPhaseFunction{hg}, AnyPhaseFunction{ray}}, 1.34);
-    const auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
+    const auto same = test::same_bits;
     CHECK(typed.refractive_index() == any.refractive_index());
     for (double z : {0.0, 0.7, 1.5, 2.9, 4.0, 6.5, 10.0, 25.0}) {
         INFO("z = " << z);
@@ -200,18 +201,7 @@ TEST_CASE("stratified water: a typed mixture samples and evaluates as the same m
             CHECK(same(typed.coefficient(k, z), any.coefficient(k, z)));
             CHECK(same(typed.optical_path(k, z, 0.6, 3.0), any.optical_path(k, z, 0.6, 3.0)));
         }
-        PhotonRng rng(23, 0);
-        int mismatches = 0;
-        for (int n = 0; n < 20000; ++n) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            const PhaseSample a = typed.sample_phase(z, u1, u2), b = any.sample_phase(z, u1, u2);
-            const PhaseDirection c = scattering_direction(typed, z, u1, u2), d = scattering_direction(any, z, u1, u2);
-            if (!same(a.cos_psi, b.cos_psi) || !same(a.phi, b.phi) || !same(a.pdf, b.pdf)) ++mismatches;
-            if (!same(c.cos_psi, d.cos_psi) || !same(c.phi, d.phi) || !same(c.cos_psi, a.cos_psi)) ++mismatches;
-            const double mu = 2.0 * u1 - 1.0;
-            if (!same(typed.eval_phase(z, mu), any.eval_phase(z, mu))) ++mismatches;
-        }
-        CHECK(mismatches == 0);
+        CHECK(test::phase_mismatches_at(typed, any, z, 23, 20000) == 0);
     }
     // Each component on its own type, in order.
     CHECK(typed.visit_phase(1, [](const auto& ph) { return std::string(ph.name()); }) == hg.name());

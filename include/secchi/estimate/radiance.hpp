@@ -208,10 +208,9 @@ private:
     };
     Boundary boundary_of(const Ray& ray) const {
         require_in_water(ray.origin.z);
-        const Bottom& bottom = map().bottom();
+        const double bottom = map().bottom().depth();  // +inf: none
         if (ray.direction.z < 0.0) return {End::surface, ray.origin.z / -ray.direction.z};
-        if (ray.direction.z > 0.0 && bottom.kind != BottomKind::none)
-            return {End::bottom, (bottom.depth - ray.origin.z) / ray.direction.z};
+        if (ray.direction.z > 0.0 && std::isfinite(bottom)) return {End::bottom, (bottom - ray.origin.z) / ray.direction.z};
         return {End::none, INFINITY};
     }
 
@@ -228,9 +227,8 @@ private:
         return *s;
     }
     void require_in_water(double z) const {
-        const Bottom& b = map().bottom();
-        require(b.kind == BottomKind::none || z <= b.depth, "ray origin depth (m)", z,
-                "lies below the bottom (" + std::to_string(b.depth) + " m)");
+        const double bottom = map().bottom().depth();
+        require(!(z > bottom), "ray origin depth (m)", z, "lies below the bottom (" + std::to_string(bottom) + " m)");
     }
     double sky(const vec3& travel) const {
         const SkyLight& light = map().scene().light;
@@ -265,7 +263,6 @@ private:
 
     void add_in_water(const Ray& ray, unsigned band, double weight, RadianceSum& sum) const {
         const vec3& d = ray.direction;
-        const Bottom& bottom = map().bottom();
         const auto [end, t_boundary] = boundary_of(ray);
         const Optics& optics = path_.optics(band);
         const double t_end = std::min(ray.t_max, t_boundary);
@@ -275,11 +272,10 @@ private:
         if (end == End::none || ray.t_max < t_boundary) return;  // ended in the water
 
         const double w = weight * optics.transmittance(ray, t_boundary);
-        if (end == End::bottom) {
-            if (bottom.kind == BottomKind::lambertian) {
-                const Estimate& ed = map().bottom_ed(band);
-                sum.add_shared(w * bottom.albedo * ed.value / pi, w * bottom.albedo * ed.se / pi);
-            }
+        if (end == End::bottom) {  // L = Ed(bottom) x L/Ed of the bottom (A / pi: M93 eq. 11)
+            const double per_ed = w * map().bottom().radiance_per_irradiance();
+            const Estimate& ed = map().bottom_ed(band);
+            if (per_ed > 0.0) sum.add_shared(per_ed * ed.value, per_ed * ed.se);
             return;
         }
         // The surface from below: internal reflection of the upwelling light, the sky refracted in.

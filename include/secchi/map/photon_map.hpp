@@ -35,8 +35,11 @@
 
 namespace secchi::SECCHI_ISA {
 
-/// The scene a map's photons were traced in, as the second pass sees it.
+/// The scene a map's photons were traced in, as the second pass sees it. Its bottom is an
+/// IrradianceBottom (scene/bottom.hpp): the reflected radiance follows from the first pass's Ed
+/// on the bottom; a first pass over another bottom model makes no map.
 struct MapScene {
+    static_assert(IrradianceBottom<Slab::bottom_type>);
     Slab slab;                                ///< periodic section (width) and bottom
     std::optional<FlatSurface> flat_surface;  ///< the flat surface; empty: a surface the second pass does not model
     SkyLight light;                           ///< the sky and the direct sun above the surface

@@ -2,49 +2,40 @@
 // The plane-parallel water body: horizontally infinite, represented by a finite horizontal
 // section of width W with periodic wrap of photon positions (a photon leaving one side
 // re-enters at the other; stored positions lie in [0, W) x [0, W)). Depth z is positive
-// down from the surface at z = 0. The bottom is one of:
+// down from the surface at z = 0. The bottom is a policy (BottomModel, scene/bottom.hpp); the
+// default, Bottom, is one of:
 //  - none (infinitely deep): without an escape depth (the default) photons are followed at
 //    any depth until absorption ends them; with one, photons that go below it moving down are
 //    counted as transmitted and stop (an explicit cut-off, whose loss is the caller's to bound);
 //  - transparent at `depth`: a finite slab over nothing (photons leaving are transmitted);
 //  - Lambertian at `depth` with irradiance reflectance `albedo` (opaque).
+// The floor is where a downward photon leaves the water body or meets its bottom: the
+// bottom's depth, or without one the escape depth.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
+#include "secchi/scene/bottom.hpp"
 #include <cmath>
+#include <utility>
 
 namespace secchi::SECCHI_ISA {
 
-enum class BottomKind { none, transparent, lambertian };
-
-struct Bottom {
-    BottomKind kind = BottomKind::none;
-    double depth = INFINITY;  ///< metres
-    double albedo = 0.0;      ///< irradiance reflectance Eu/Ed of a Lambertian bottom
-
-    static Bottom infinitely_deep() { return {}; }
-    static Bottom transparent_at(double depth) {
-        require(std::isfinite(depth) && depth > 0.0, "bottom depth", depth, "must be finite and > 0");
-        return {BottomKind::transparent, depth, 0.0};
-    }
-    static Bottom lambertian_at(double depth, double albedo) {
-        require(std::isfinite(depth) && depth > 0.0, "bottom depth", depth, "must be finite and > 0");
-        require(std::isfinite(albedo) && albedo >= 0.0 && albedo <= 1.0, "bottom albedo", albedo, "must be in [0, 1]");
-        return {BottomKind::lambertian, depth, albedo};
-    }
-};
-
-class Slab {
+template <BottomModel B = Bottom>
+class BasicSlab {
 public:
-    Slab(double section_width, Bottom bottom, double escape_depth = INFINITY)
-        : width_(section_width), bottom_(bottom), escape_depth_(escape_depth) {
+    using bottom_type = B;
+
+    BasicSlab(double section_width, B bottom, double escape_depth = INFINITY)
+        : width_(section_width), bottom_(std::move(bottom)), escape_depth_(escape_depth) {
         require(std::isfinite(section_width) && section_width > 0.0, "section width", section_width, "must be > 0");
-        require(bottom.kind != BottomKind::none || (escape_depth > 0.0), "escape depth", escape_depth, "must be > 0");
+        require(has_bottom() || (escape_depth > 0.0), "escape depth", escape_depth, "must be > 0");
     }
     [[nodiscard]] double width() const { return width_; }
-    [[nodiscard]] const Bottom& bottom() const { return bottom_; }
+    [[nodiscard]] const B& bottom() const { return bottom_; }
+    /// Whether the water body has a bottom (at a finite depth).
+    [[nodiscard]] bool has_bottom() const { return std::isfinite(bottom_.depth()); }
     /// Depth at which a downward photon leaves the water body (bottom or escape depth).
-    [[nodiscard]] double floor_depth() const { return bottom_.kind == BottomKind::none ? escape_depth_ : bottom_.depth; }
+    [[nodiscard]] double floor_depth() const { return has_bottom() ? bottom_.depth() : escape_depth_; }
     /// Periodic wrap of a horizontal coordinate into [0, W).
     /// For a double, or a SIMD vector of doubles or floats (photons in lanes).
     template <class Real>
@@ -58,8 +49,11 @@ public:
 
 private:
     double width_;
-    Bottom bottom_;
+    B bottom_;
     double escape_depth_;
 };
+
+/// The plane-parallel water body of the default bottom (none, transparent or Lambertian).
+using Slab = BasicSlab<Bottom>;
 
 }  // namespace secchi

@@ -186,16 +186,16 @@ TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnyS
 /// crossing estimate, the sum of w / |mu| over the light leaving the bottom, has the same mean
 /// and a larger variance. M93's problem 6 checks Eou = Ed at its bottom, where A = 0.5.)
 inline void eou_on_lambertian_bottom(const Bottom& bottom, std::vector<DepthResult>& depths) {
-    if (bottom.kind != BottomKind::lambertian) return;
+    if (bottom.kind() != BottomKind::lambertian) return;
     for (auto& d : depths)
-        if (d.depth >= bottom.depth) d.irradiance[Eou] = {2.0 * d.irradiance[Eu].value, 2.0 * d.irradiance[Eu].se};
+        if (d.depth >= bottom.depth()) d.irradiance[Eou] = {2.0 * d.irradiance[Eu].value, 2.0 * d.irradiance[Eu].se};
 }
 
 /// The length of the nadir ray from depth z: down to where the optics' transmittance falls to
 /// cfg.ray_transmittance, or to the bottom.
 template <RayOptics Optics>
 double nadir_ray_length(const Optics& optics, double z, const PlaneParallelConfig& cfg) {
-    const double to_bottom = cfg.bottom.kind == BottomKind::none ? INFINITY : cfg.bottom.depth - z;
+    const double to_bottom = cfg.bottom.depth() - z;  // +inf without a bottom
     return length_to_transmittance(optics, Ray{{0.0, 0.0, z}, {0.0, 0.0, 1.0}, to_bottom}, cfg.ray_transmittance);
 }
 
@@ -273,8 +273,8 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
     auto first = detail::run_first_pass<Record>(medium, cfg, t0);
     PlaneParallelResult& out = first.result;
     if (first.transport.map_photons > 0) {
-        const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth);
-        const VoiCylinder cylinder(0.0, cfg.bottom.depth);
+        const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth());
+        const VoiCylinder cylinder(0.0, cfg.bottom.depth());
         auto run = [&]<class Store>(std::type_identity<Store>, const auto& volume, auto... store_args) {
             const auto map = PhotonMap<Store>::from_first_pass(std::move(first.transport), first.scene, store_args...);
             out.store_bytes = map.store().memory_bytes();

@@ -55,12 +55,14 @@ namespace secchi::SECCHI_ISA {
 /// crossing.
 /// Detector: the irradiance detectors (IrradianceDetector, with record_lanes and may_tally for
 /// flights in lanes), IrradiancePlanes by default.
+/// BottomPolicy: the bottom (BottomModel, scene/bottom.hpp), met lane by lane as PhotonTracer does.
 template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface,
-          LightSource Source = SunAndSky, IrradianceDetector Detector = IrradiancePlanes>
+          LightSource Source = SunAndSky, IrradianceDetector Detector = IrradiancePlanes,
+          BottomModel BottomPolicy = Bottom>
     requires depth_independent<M> && std::default_initializable<Record> &&
              (std::same_as<Real, double> || std::same_as<Real, float>)
-class LaneTracer : private PhotonTracer<M, Record, Surface, Source, Detector> {
-    using Base = PhotonTracer<M, Record, Surface, Source, Detector>;
+class LaneTracer : private PhotonTracer<M, Record, Surface, Source, Detector, BottomPolicy> {
+    using Base = PhotonTracer<M, Record, Surface, Source, Detector, BottomPolicy>;
     using typename Base::PhotonState;
     using Reals = lanes::LanesOf<Real>;
     using Mask = typename Reals::mask_type;
@@ -74,10 +76,10 @@ class LaneTracer : private PhotonTracer<M, Record, Surface, Source, Detector> {
 
 public:
     using typename Base::medium_type, typename Base::record_type, typename Base::surface_type,
-        typename Base::source_type, typename Base::detector_type;
+        typename Base::source_type, typename Base::detector_type, typename Base::slab_type;
 
     /// The photons come from `source` (scene/source.hpp).
-    LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
+    LaneTracer(const M& medium, const slab_type& slab, const Surface& surface, const Source& source,
                TransportSettings settings)
         : Base(medium, slab, surface, source, supported(std::move(settings))),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
@@ -85,7 +87,7 @@ public:
               medium.coefficient(this->physics_.path_coefficient(), 0.0))) {}
 
     /// A collimated sun and a uniform sky beside it (SunAndSky), as PhotonTracer's.
-    LaneTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
+    LaneTracer(const M& medium, const slab_type& slab, const Surface& surface, const CollimatedSun& sun,
                TransportSettings settings, UniformSky sky = UniformSky{})
         requires std::same_as<Source, SunAndSky>
         : LaneTracer(medium, slab, surface, SunAndSky(sun, sky), std::move(settings)) {}

@@ -4,7 +4,7 @@
 // refracted through the surface (a policy: flat, or wind-blown facets; scene/surface.hpp),
 // exponential free paths (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage
 // of scattering events in the photon map (3.3.6), Fresnel reflection and refraction at the
-// surface from below, a Lambertian or transparent bottom, and irradiance detectors. Light
+// surface from below, the bottom (a policy: scene/bottom.hpp), and irradiance detectors. Light
 // going up from the surface into the air is handed to the source when the source can send it
 // back (a traced atmosphere: the coupled system), and comes down onto the surface again or
 // leaves. Every photon's weight ends in the energy ledger. The per-event rules (free flight,
@@ -93,10 +93,11 @@ void require_first_pass_fits_in_memory(const TransportSettings& s, double runs =
 }
 
 /// The policies: the water (Medium), what a stored event keeps (PhotonRecord), the air-water
-/// surface (AirWaterSurface), the light source (LightSource) and the irradiance detectors
-/// (IrradianceDetector); the per-event rules are EventPhysics's, set by the settings.
+/// surface (AirWaterSurface), the light source (LightSource), the irradiance detectors
+/// (IrradianceDetector) and the bottom (BottomModel, scene/bottom.hpp); the per-event rules
+/// are EventPhysics's, set by the settings.
 template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky,
-          IrradianceDetector Detector = IrradiancePlanes>
+          IrradianceDetector Detector = IrradiancePlanes, BottomModel BottomPolicy = Bottom>
 class PhotonTracer {
 public:
     using medium_type = M;
@@ -104,9 +105,10 @@ public:
     using surface_type = Surface;
     using source_type = Source;
     using detector_type = Detector;
+    using slab_type = BasicSlab<BottomPolicy>;
 
     /// The photons come from `source` (scene/source.hpp).
-    PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const Source& source,
+    PhotonTracer(const M& medium, const slab_type& slab, const Surface& surface, const Source& source,
                  TransportSettings settings)
         : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
           detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
@@ -127,7 +129,7 @@ public:
 
     /// A collimated sun and a uniform sky beside it (black by default) just above the surface
     /// (SunAndSky): a photon comes from the sky with probability E_sky / (E_sun + E_sky).
-    PhotonTracer(const M& medium, const Slab& slab, const Surface& surface, const CollimatedSun& sun,
+    PhotonTracer(const M& medium, const slab_type& slab, const Surface& surface, const CollimatedSun& sun,
                  TransportSettings settings, UniformSky sky = UniformSky{})
         requires std::same_as<Source, SunAndSky>
         : PhotonTracer(medium, slab, surface, SunAndSky(sun, sky), std::move(settings)) {}
@@ -253,7 +255,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// the bottom; the bottom's reflection, or transmission). False if it leaves or ends.
     bool meet_boundary(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool surface) const {
         if (surface) return leave_or_reflect_at_surface(p, rng, out);
-        if (slab_.bottom().kind != BottomKind::none) out.bottom_ed += p.w;
+        if (slab_.has_bottom()) out.bottom_ed += p.w;
         return reflect_at_bottom(p, rng, out.ledger);
     }
 
@@ -356,26 +358,26 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     }
     static constexpr int max_surface_hits = 64;
 
-    /// At the floor: Lambertian reflection (weight x albedo in implicit capture, or survival
-    /// with probability albedo in analog mode), or transmission out of the water body.
+    /// At the floor: transmission out of the water body, or reflection by the bottom's BRDF
+    /// (scene/bottom.hpp): weight x rho(in) in implicit capture, or survival with probability
+    /// rho(in) in analog mode, then a direction drawn with pdf f_r mu_out / rho.
     bool reflect_at_bottom(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        const Bottom& b = slab_.bottom();
-        if (b.kind != BottomKind::lambertian) {
+        const BottomPolicy& b = slab_.bottom();
+        if (b.transmits()) {
             ledger.transmitted += p.w;
             return false;
         }
+        const double rho = b.reflectance(p.dir);
         if (!physics_.analog()) {
-            ledger.absorbed_bottom += p.w * (1.0 - b.albedo);
-            p.w *= b.albedo;
-        } else if (rng.uniform() >= b.albedo) {
+            ledger.absorbed_bottom += p.w * (1.0 - rho);
+            p.w *= rho;
+        } else if (rng.uniform() >= rho) {
             ledger.absorbed_bottom += p.w;
             return false;
         }
-        // Lambertian reflection: cosine-weighted upward direction (pdf cos(theta)/pi).
-        const double mu = std::sqrt(rng.uniform()), phi = two_pi * rng.uniform();
-        const double sin_t = std::sqrt(1.0 - mu * mu);
-        p.dir = {sin_t * std::cos(phi), sin_t * std::sin(phi), -mu};
-        p.pos.z = b.depth;
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        p.dir = b.reflected_direction(p.dir, u1, u2);
+        p.pos.z = b.depth();
         return roulette(p, rng, ledger);
     }
 
@@ -507,7 +509,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     }
 
     const M& medium_;
-    Slab slab_;
+    slab_type slab_;
     Surface surface_;
     Source source_;
     TransportSettings s_;
@@ -526,7 +528,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
 /// with the same per-event rules (event_physics.hpp).
 template <class T>
 concept FirstPassTracer =
-    std::constructible_from<T, const typename T::medium_type&, const Slab&, const typename T::surface_type&,
+    std::constructible_from<T, const typename T::medium_type&, const typename T::slab_type&, const typename T::surface_type&,
                             const typename T::source_type&, TransportSettings> &&
     requires(const T& tracer, std::vector<typename T::record_type> storage) {
         { tracer.run(std::move(storage)) } -> std::same_as<TransportResult<typename T::record_type>>;
