@@ -119,16 +119,16 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     t.map_photons = cl.count("map-photons", std::min<std::uint64_t>(t.photons, 2'000'000));
     t.seed = cl.count("seed", 1);
     t.threads = cl.threads(1);
-    t.batches = static_cast<unsigned>(cl.count("batches", 32));
+    t.batches = cl.unsigned_count("batches", 32);
     t.absorption = secchi::parse_absorption(cl.text("absorption", "continuous"));
     cfg.store = secchi::parse_store(cl.text("store", "voi"));
     cfg.tracer = secchi::parse_tracer(cl.text("tracer", "photon"));
     cfg.radius = cl.number("radius", 0.05);
-    cfg.steps = static_cast<unsigned>(cl.count("steps", 64));
+    cfg.steps = cl.unsigned_count("steps", 64);
     cfg.omega = cl.number("omega", 0.005);
     cfg.ray_transmittance = cl.number("ray-transmittance", 1e-4);
     cfg.cone_peak = secchi::parse_cone_peak(cl.text("cone-peak", "transmitted"));
-    cfg.ray_grid = static_cast<unsigned>(cl.count("ray-grid", 10));
+    cfg.ray_grid = cl.unsigned_count("ray-grid", 10);
     cfg.section_width = cl.number("section-width", 1.0);
     return cfg;
 }
