@@ -212,3 +212,18 @@ TEST_CASE("fill_usage replaces every placeholder by its list") {
     CHECK(fill_usage("--store {stores} [--store {stores}] --x {none}", {{"stores", store_usage()}}) ==
           "--store kdtree|voi|voi-grid|nanoflann|brute-force [--store kdtree|voi|voi-grid|nanoflann|brute-force] --x {none}");
 }
+
+TEST_CASE("CommandLine: a count kept in an unsigned is rejected above 2^32 - 1, not wrapped") {
+    // fuzz/corpus/cli/regression_batches_6e9: slab took --batches 6e9 as 6e9 mod 2^32.
+    const auto parse = [](std::vector<std::string> words) {
+        words.insert(words.begin(), "slab");
+        std::vector<char*> argv;
+        for (auto& w : words) argv.push_back(w.data());
+        return CommandLine(static_cast<int>(argv.size()), argv.data(), {"batches"});
+    };
+    CHECK(parse({}).unsigned_count("batches", 32) == 32);
+    CHECK(parse({"--batches", "4294967295"}).unsigned_count("batches", 32) == 4294967295u);
+    CHECK_THROWS_WITH(parse({"--batches", "6e9"}).unsigned_count("batches", 32),
+                      Contains("--batches = 6e9") && Contains("[0, 4294967295]"));
+    CHECK_THROWS_WITH(parse({"--batches", "4294967296"}).unsigned_count("batches", 32), Contains("4294967296"));
+}

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -103,6 +104,11 @@ public:
             reject("--" + name, has(name) ? text(name) : std::to_string(v), reason);
         }
         return v;
+    }
+    /// A count kept in an unsigned (--batches, --steps, ...): one above its range is an
+    /// input_error naming the option, not a value wrapped modulo 2^32.
+    [[nodiscard]] unsigned unsigned_count(const std::string& name, unsigned fallback) const {
+        return static_cast<unsigned>(count(name, fallback, 0, std::numeric_limits<unsigned>::max()));
     }
     /// --threads: 1 to max_threads worker threads.
     [[nodiscard]] unsigned threads(unsigned fallback) const {
