@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs secchi's build dependencies from Debian packages (idempotent: installs only what
-# is missing). GLM, Catch2 2.13, OpenEXR 3.1, nanoflann 1.4, plus the compilers (GCC, clang) and
-# CMake; and for the Python module (python/) pybind11, the Debian interpreter's headers, numpy and pytest.
+# is missing). GLM, Catch2 2.13, OpenEXR 3.1, nanoflann 1.4, plus the compilers (GCC, clang and
+# its sanitizer runtimes, for scripts/clang_tests.sh) and CMake; and for the Python module
+# (python/) pybind11, the Debian interpreter's headers, numpy and pytest.
 set -euo pipefail
-packages=(g++ clang cmake ninja-build libglm-dev catch2 libopenexr-dev libnanoflann-dev
+packages=(g++ clang libclang-rt-14-dev cmake ninja-build libglm-dev catch2 libopenexr-dev libnanoflann-dev
           pybind11-dev python3-dev python3-numpy python3-pytest)
 missing=()
 for p in "${packages[@]}"; do
