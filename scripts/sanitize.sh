@@ -3,7 +3,8 @@
 # and UndefinedBehaviorSanitizer (GCC), including the -march=native builds of the SIMD code
 # paths (the VOI scan kernels' slack writes, LaneTracer's chunk slots, the lane kernels), run
 # under them. Any out-of-bounds access, use after free, leak, signed overflow, misaligned or
-# out-of-range conversion stops the test with a report.
+# out-of-range conversion stops the test with a report. (The test command runs a subset under
+# clang's sanitizers, and the threaded test cases under ThreadSanitizer: scripts/clang_tests.sh.)
 #
 #   bash scripts/sanitize.sh [BUILD_DIR=build-sanitize] [ctest arguments...]
 #

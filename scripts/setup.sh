@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs secchi's build dependencies from Debian packages (idempotent: installs only what
 # is missing). GLM, Catch2 2.13, OpenEXR 3.1, nanoflann 1.4, plus the compilers (GCC, clang with its
-# sanitizer and libFuzzer runtimes, libclang-rt-14-dev: scripts/fuzz.sh) and
+# sanitizer and libFuzzer runtimes, libclang-rt-14-dev: scripts/clang_tests.sh, scripts/fuzz.sh) and
 # CMake; and for the Python module (python/) pybind11, the Debian interpreter's headers, numpy and pytest.
 set -euo pipefail
 packages=(g++ clang libclang-rt-14-dev cmake ninja-build libglm-dev catch2 libopenexr-dev libnanoflann-dev

@@ -168,7 +168,7 @@ TEST_CASE("Rayleigh single scattering: p(pi) = 3/(8 pi)") {
     CHECK(std::abs(d.lu.value - exact) <= 4 * d.lu.se);
 }
 
-TEST_CASE("k-d tree spheres, nanoflann spheres, the VOI stores and brute force agree on identical maps") {
+TEST_CASE("k-d tree spheres, nanoflann spheres, the VOI stores and brute force agree on identical maps", "[threads]") {
     // Same photons, same spheres: the sums differ only by the order of addition.
     auto cfg = single_scattering_config(StoreKind::kdtree);
     cfg.transport.photons = cfg.transport.map_photons = 20000;
@@ -298,7 +298,7 @@ PhotonMap<Store> unit_flux_map(const TransportResult<CompactRecord>& first, cons
 }
 }  // namespace
 
-TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identical to the per-photon formula") {
+TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identical to the per-photon formula", "[threads]") {
     const HenyeyGreensteinPhase hg(0.9);
     const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
     const auto first = compact_map(water, 40000);
@@ -368,7 +368,7 @@ TEST_CASE("Vertical rays through a compact map: the theta tables are bit-identic
     }
 }
 
-TEST_CASE("Vertical rays through a compact map in stratified water: per-component theta tables are bit-identical") {
+TEST_CASE("Vertical rays through a compact map in stratified water: per-component theta tables are bit-identical", "[threads]") {
     // Two components whose weights change with depth, so the mixture matters; depth importance
     // so photons carry different fluxes.
     const DepthProfile profile{{0.0, 3.0, 20.0}, {0.1, 0.2, 0.05}, {{0.5, 0.1, 0.3}, {0.05, 0.6, 0.2}}};
@@ -384,6 +384,32 @@ TEST_CASE("Vertical rays through a compact map in stratified water: per-componen
     const Radius r(0.1);
     check_bit_identical(PathRadianceEstimator(voi, VoiCylinder{}, optics, r), PathRadianceEstimator(voi, VoiCylinder{}, per_photon, r),
                         voi.batches(), rays_every_way(1.0));
+}
+
+TEST_CASE("The second pass's estimates over many rays are bit-identical for 1 and 2 threads", "[threads]") {
+    const HenyeyGreensteinPhase hg(0.9);
+    const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);
+    const auto first = compact_map(water, 10000);
+    const auto voi = unit_flux_map<VoiOctreeStore<CompactRecord>>(first);
+    const ConeAveragedPhase cone(hg, 0.005);
+    const HomogeneousRayOptics optics(cone, water.attenuation(), water.scattering());
+    const Radius r(0.1);
+    std::vector<Ray> rays = rays_every_way(1.0);
+    const PathRadianceEstimator path(voi, VoiCylinder{}, optics, r);
+    const auto a = path.estimate(rays, 1), b = path.estimate(rays, 2);
+    CHECK(a.photons_touched > 0);
+    CHECK(a.photons_touched == b.photons_touched);
+    CHECK(a.radiance.value == b.radiance.value);
+    CHECK(a.radiance.se == b.radiance.se);
+    // The whole radiance, also along rays from the air through the surface.
+    for (const Ray& ray : nadir_ray_grid(-1.0, INFINITY, 3, 1.0)) rays.push_back(ray);
+    const RadianceEstimator whole(voi, VoiCylinder{}, optics, r);
+    std::uint64_t touched1 = 0, touched2 = 0;
+    const Estimate c = whole.average(rays, 0, 1, &touched1), d = whole.average(rays, 0, 2, &touched2);
+    CHECK(touched1 > 0);
+    CHECK(touched1 == touched2);
+    CHECK(c.value == d.value);
+    CHECK(c.se == d.se);
 }
 
 TEST_CASE("The map refuses fewer batches than its photons have, and the estimator too short a sum array") {

@@ -61,7 +61,7 @@ TEST_CASE("The pinhole camera's rays: the centre along forward, the edges at hal
                       Contains("field of view"));
 }
 
-TEST_CASE("A rendered pixel is the whole radiance of its ray, with its SE, for any thread count") {
+TEST_CASE("A rendered pixel is the whole radiance of its ray, with its SE, for any thread count", "[threads]") {
     const Map map = test_map(1e-4);
     const RadianceEstimator est(map, VoiCylinder(0.0, 6.0), optics(), Radius(0.1));
     for (const PinholeCameraSpec& spec :

@@ -8,7 +8,12 @@
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
 #include "transport_checks.hpp"
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <thread>
 #include <vector>
 
 using namespace secchi;
@@ -130,7 +135,7 @@ TEST_CASE("Under a wind-blown surface the absorption modes agree within their st
     check_absorption_modes_agree(s, run_wind_blown);
 }
 
-TEST_CASE("Under a wind-blown surface results are bit-identical for 1 and 2 threads") {
+TEST_CASE("Under a wind-blown surface results are bit-identical for 1 and 2 threads", "[threads]") {
     testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, run_wind_blown);
 }
 
@@ -203,12 +208,12 @@ TEST_CASE("The surface's detector counts every photon that reaches the surface f
     testing::check_surface_plane_counts_every_crossing<testing::PhotonTracerOf3>(1e-12);
 }
 
-TEST_CASE("Results are bit-identical for 1 and 2 threads") {
+TEST_CASE("Results are bit-identical for 1 and 2 threads", "[threads]") {
     testing::require_same_for_1_and_2_threads(
         AbsorptionMode::continuous, [](const TransportSettings& s) { return run(HenyeyGreensteinPhase(0.9), 0.9, s); });
 }
 
-TEST_CASE("A run given an earlier map's records writes into their memory and gives the same result") {
+TEST_CASE("A run given an earlier map's records writes into their memory and gives the same result", "[threads]") {
     TransportSettings s;
     s.photons = s.map_photons = 20000;
     s.depths = {1.0, 5.0};
@@ -226,6 +231,61 @@ TEST_CASE("A run given an earlier map's records writes into their memory and giv
     CHECK(second.records.data() == memory);
     CHECK(second.records.capacity() == capacity);
     testing::require_identical(fresh, second);
+}
+
+namespace {
+/// What parallel_for reports to the installed progress sink: loop_started and loop_finished
+/// from the loop's own thread, advanced() from any worker.
+class CountingSink final : public ProgressSink {
+public:
+    void loop_started(std::size_t total) override {
+        ++started;
+        this->total += total;
+    }
+    void advanced() override { advanced_count.fetch_add(1, std::memory_order_relaxed); }
+    void loop_finished() override { ++finished; }
+
+    std::atomic<std::size_t> advanced_count{0};
+    std::size_t started = 0, finished = 0, total = 0;
+};
+}  // namespace
+
+TEST_CASE("parallel_for runs every index once, reports only the outermost loop, and rethrows a body's exception",
+          "[threads]") {
+    for (unsigned threads : {1u, 2u, 4u}) {
+        INFO(threads << " threads");
+        CountingSink sink;
+        const ProgressScope scope(&sink);
+        std::vector<int> runs(1000, 0);  // each slot written by the one worker that took its index
+        std::atomic<int> taken{0}, inner{0};
+        parallel_for(runs.size(), threads, [&](std::size_t i) {
+            // Index 0 waits for a second index to be taken: on 2 or more threads the workers overlap.
+            taken.fetch_add(1);
+            if (threads > 1 && i == 0)
+                while (taken.load() < 2) std::this_thread::yield();
+            ++runs[i];
+            if (i % 100 == 0) parallel_for(10, 2, [&](std::size_t) { inner.fetch_add(1); });  // nested: not reported
+        });
+        CHECK(std::count(runs.begin(), runs.end(), 1) == 1000);
+        CHECK(inner == 100);
+        CHECK(sink.started == 1);
+        CHECK(sink.total == 1000);
+        CHECK(sink.advanced_count == 1000);
+        CHECK(sink.finished == 1);
+
+        // Every index throws: one exception reaches the caller, after every worker has stopped.
+        std::atomic<int> ran{0};
+        CHECK_THROWS_WITH(parallel_for(1000, threads,
+                                       [&](std::size_t i) {
+                                           ran.fetch_add(1);
+                                           throw std::runtime_error("index " + std::to_string(i));
+                                       }),
+                          Catch::StartsWith("index "));
+        CHECK(ran >= 1);
+        CHECK(ran <= static_cast<int>(threads));  // a worker takes no index after an exception
+        CHECK(sink.started == 2);
+        CHECK(sink.finished == 2);
+    }
 }
 
 namespace {
