@@ -15,6 +15,7 @@
 #include <secchi/map/voi_grid.hpp>
 #include <secchi/map/voi_octree.hpp>
 #include <secchi/solver/plane_parallel.hpp>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -53,10 +54,11 @@ Result run(const Estimator& est, const std::vector<Ray>& rays, unsigned threads)
 int main(int argc, char** argv) {
     return run_program(argc, argv, "camera_bench", usage, [&] {
         const CommandLine cl(argc, argv, {"map-photons", "size", "rows-step", "rounds", "steps", "threads"});
-        const auto threads = static_cast<unsigned>(cl.count("threads", 2));
-        const int size = static_cast<int>(cl.count("size", 512)), step = static_cast<int>(cl.count("rows-step", 16));
-        const int rounds = static_cast<int>(cl.count("rounds", 3));
-        require(step >= 1 && rounds >= 1, "rows step and rounds", step * rounds, "must be >= 1");
+        const unsigned threads = cl.threads(2);
+        constexpr std::uint64_t max_side = 1u << 15;  // a camera side up to 32768 pixels
+        const int size = static_cast<int>(cl.count("size", 512, 1, max_side));
+        const int step = static_cast<int>(cl.count("rows-step", 16, 1, max_side));
+        const int rounds = static_cast<int>(cl.count("rounds", 3, 1, 1000));
 
         const auto water = examples::coastal_water();
         const PlaneParallelConfig cfg = examples::coastal_config(cl.count("map-photons", 1'000'000), threads);
@@ -71,7 +73,7 @@ int main(int argc, char** argv) {
         const VoiCylinder cylinder(0.0, cfg.bottom.depth());
         const RadianceEstimator by_grid(grid, cylinder, optics, radius);
         const RadianceEstimator by_octree(octree, cylinder, optics, radius);
-        const RadianceEstimator by_kd(kd, StepSpheres(static_cast<unsigned>(cl.count("steps", 64)), 0.0, cfg.bottom.depth()),
+        const RadianceEstimator by_kd(kd, StepSpheres(cl.unsigned_count("steps", 64), 0.0, cfg.bottom.depth()),
                                       optics, radius);
 
         const PinholeCamera camera({{0.5, 0.5, 4.0}, {0.0, 0.0, -1.0}, {1.0, 0.0, 0.0}, 120.0, size, size});
