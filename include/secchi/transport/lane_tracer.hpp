@@ -19,8 +19,9 @@
 // photons' histories are the same for any lane count (any target); the records' order and
 // the sums' last bits are not (core/lanes.hpp).
 //
-// For homogeneous water (depth_independent media), without depth importance (use
-// PhotonTracer for those). Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
+// For homogeneous water (depth_independent media), without depth importance and without
+// objects in the water (scene/geometry.hpp: LaneTracer has no geometry parameter; its base is
+// PhotonTracer with NoGeometry); use PhotonTracer for those. Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
 // Henyey-Greenstein, or a table with the trapezoid convention such as Petzold) sample in the
 // vectors; any other samples lane by lane.
 //

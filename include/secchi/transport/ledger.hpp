@@ -1,12 +1,12 @@
 #pragma once
 // Energy accounting of the first pass: every photon's weight ends in exactly one account,
 // so incident = surface_reflected + escaped_up + to_space + absorbed_air + absorbed +
-// absorbed_bottom + transmitted + truncated + roulette_killed - roulette_gained. In analog
-// mode the roulette terms are zero and the balance is exact per photon; with Russian roulette
-// it holds in expectation. Under a source that sends light back (a traced atmosphere,
-// scene/atmosphere.hpp) light going up from the surface is handed to it, so it ends in
-// to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under one that does
-// not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
+// absorbed_bottom + absorbed_objects + transmitted + truncated + roulette_killed -
+// roulette_gained. In analog mode the roulette terms are zero and the balance is exact per
+// photon; with Russian roulette it holds in expectation. Under a source that sends light back
+// (a traced atmosphere, scene/atmosphere.hpp) light going up from the surface is handed to it,
+// so it ends in to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under
+// one that does not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
 #include "secchi/core/config.hpp"
 namespace secchi::SECCHI_ISA {
 
@@ -18,6 +18,7 @@ struct EnergyLedger {
     double absorbed_air = 0;       ///< absorbed in a traced atmosphere
     double absorbed = 0;           ///< absorbed in the water
     double absorbed_bottom = 0;    ///< absorbed by an opaque bottom
+    double absorbed_objects = 0;   ///< absorbed by objects in the water (scene/geometry.hpp)
     double transmitted = 0;        ///< left through the bottom of a finite slab, or below the escape depth
     double truncated = 0;          ///< stopped by the scattering-order limit (manual 3.3.8)
     double roulette_killed = 0;    ///< weight removed by Russian roulette
@@ -31,6 +32,7 @@ struct EnergyLedger {
         absorbed_air += o.absorbed_air;
         absorbed += o.absorbed;
         absorbed_bottom += o.absorbed_bottom;
+        absorbed_objects += o.absorbed_objects;
         transmitted += o.transmitted;
         truncated += o.truncated;
         roulette_killed += o.roulette_killed;
@@ -40,7 +42,7 @@ struct EnergyLedger {
     /// incident minus everything accounted for; 0 up to rounding in analog mode.
     [[nodiscard]] double imbalance() const {
         return incident + roulette_gained -
-               (surface_reflected + escaped_up + to_space + absorbed_air + absorbed + absorbed_bottom + transmitted +
+               (surface_reflected + escaped_up + to_space + absorbed_air + absorbed + absorbed_bottom + absorbed_objects + transmitted +
                 truncated + roulette_killed);
     }
 };

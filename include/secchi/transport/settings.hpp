@@ -52,6 +52,8 @@ struct TransportSettings {
     unsigned threads = 1;
     unsigned batches = 32;              ///< independent batches for standard errors (>= 16 recommended)
     std::vector<double> depths;         ///< irradiance detector depths (m)
+    /// Ed on the bottom in bottom_bins x bottom_bins bins over the section (bottom_grid.hpp); 0: none.
+    unsigned bottom_bins = 0;
     /// Scalar irradiances score a crossing 1/|mu|, or 2/mu_c below this cosine (irradiance_planes.hpp).
     double grazing_cosine = 0.05;
     AbsorptionMode absorption = AbsorptionMode::continuous;
@@ -80,6 +82,7 @@ struct TransportSettings {
         require(roulette_survival > 0.0 && roulette_survival <= 1.0, "roulette survival", roulette_survival,
                 "must be in (0, 1]");
         require(block_size > 0, "block size", block_size, "must be > 0");
+        require(bottom_bins <= 4096, "bottom bins", bottom_bins, "must be <= 4096 per side");
         for (double z : depths) require(z >= 0.0, "detector depth", z, "must be >= 0");
         importance.validate();
     }

@@ -4,7 +4,8 @@
 // refracted through the surface (a policy: flat, or wind-blown facets; scene/surface.hpp),
 // exponential free paths (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage
 // of scattering events in the photon map (3.3.6), Fresnel reflection and refraction at the
-// surface from below, the bottom (a policy: scene/bottom.hpp), and irradiance detectors. Light
+// surface from below, the bottom (a policy: scene/bottom.hpp), opaque objects in the water (a
+// policy: scene/geometry.hpp; none by default), and irradiance detectors. Light
 // going up from the surface into the air is handed to the source when the source can send it
 // back (a traced atmosphere: the coupled system), and comes down onto the surface again or
 // leaves. Every photon's weight ends in the energy ledger. The per-event rules (free flight,
@@ -21,11 +22,13 @@
 #include "secchi/map/record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/scene/flat_surface.hpp"
+#include "secchi/scene/geometry.hpp"
 #include "secchi/scene/source.hpp"
 #include "secchi/scene/sun_and_sky.hpp"
 #include "secchi/scene/surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/transport/blocks.hpp"
+#include "secchi/transport/bottom_grid.hpp"
 #include "secchi/transport/event_physics.hpp"
 #include "secchi/transport/irradiance_planes.hpp"
 #include "secchi/transport/ledger.hpp"
@@ -55,6 +58,9 @@ struct TransportResult {
     std::vector<double> depths;
     std::vector<std::array<Estimate, 4>> irradiance;  ///< per depth, indexed by IrradianceKind
     Estimate bottom_ed;                               ///< Ed arriving at the bottom (0 without one)
+    /// Ed arriving at the bottom per bin of settings.bottom_bins per side (index iy n + ix;
+    /// bottom_grid.hpp); empty when bottom_bins = 0.
+    std::vector<Estimate> bottom_ed_bins;
     AboveSurface above;                               ///< Ed(0+) direct and diffuse, Eu(0+)
     EnergyLedger ledger;                              ///< normalised per incident photon
     std::vector<Record> records;                      ///< the photon map, in photon order
@@ -67,9 +73,11 @@ namespace detail {
 /// What a block's photons produce: tallies, ledger, records (in chunks from the run's pool).
 template <class Record>
 struct BlockResult {
-    BlockResult(std::size_t depths, ChunkPool<Record>* pool) : tally(depths), records(pool) {}
+    BlockResult(std::size_t depths, std::size_t bins, ChunkPool<Record>* pool)
+        : tally(depths), bottom_bins(bins, 0.0), records(pool) {}
 
     std::vector<IrradianceTally> tally;  // per depth
+    std::vector<double> bottom_bins;     // weight arriving on the bottom per bin (bottom_grid.hpp)
     double bottom_ed = 0;
     double ed_direct = 0, ed_diffuse = 0, eu_air = 0;  // just above the surface (AboveSurface)
     EnergyLedger ledger;
@@ -86,7 +94,8 @@ template <PhotonRecord Record>
 void require_first_pass_fits_in_memory(const TransportSettings& s, double runs = 1.0) {
     const double blocks = static_cast<double>(s.photons / std::max<std::uint64_t>(s.block_size, 1) + s.batches);
     const double per_block = sizeof(detail::Block) + sizeof(detail::BlockResult<Record>) +
-                             static_cast<double>(s.depths.size()) * sizeof(IrradianceTally);
+                             static_cast<double>(s.depths.size()) * sizeof(IrradianceTally) +
+                             static_cast<double>(s.bottom_bins) * s.bottom_bins * sizeof(double);
     require_fits_in_memory(blocks * per_block, "photons", s.photons);
     require_fits_in_memory(blocks * per_block + runs * static_cast<double>(s.map_photons) * sizeof(Record),
                            "map photons", s.map_photons);
@@ -94,10 +103,12 @@ void require_first_pass_fits_in_memory(const TransportSettings& s, double runs =
 
 /// The policies: the water (Medium), what a stored event keeps (PhotonRecord), the air-water
 /// surface (AirWaterSurface), the light source (LightSource), the irradiance detectors
-/// (IrradianceDetector) and the bottom (BottomModel, scene/bottom.hpp); the per-event rules
-/// are EventPhysics's, set by the settings.
+/// (IrradianceDetector), the bottom (BottomModel, scene/bottom.hpp) and the objects in the
+/// water (SceneGeometry, scene/geometry.hpp: NoGeometry, the default, compiles to the tracer
+/// without objects); the per-event rules are EventPhysics's, set by the settings.
 template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky,
-          IrradianceDetector Detector = IrradiancePlanes, BottomModel BottomPolicy = Bottom>
+          IrradianceDetector Detector = IrradiancePlanes, BottomModel BottomPolicy = Bottom,
+          SceneGeometry Geometry = NoGeometry>
 class PhotonTracer {
 public:
     using medium_type = M;
@@ -106,11 +117,15 @@ public:
     using source_type = Source;
     using detector_type = Detector;
     using slab_type = BasicSlab<BottomPolicy>;
+    using geometry_type = Geometry;
 
-    /// The photons come from `source` (scene/source.hpp).
+    /// The photons come from `source` (scene/source.hpp). The objects of `geometry` lie in the
+    /// section, [0, W] x [0, W] horizontally, and between the surface and the floor; they
+    /// repeat with the section's period (scene/geometry.hpp).
     PhotonTracer(const M& medium, const slab_type& slab, const Surface& surface, const Source& source,
-                 TransportSettings settings)
+                 TransportSettings settings, Geometry geometry = Geometry{})
         : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
+          geometry_(checked_geometry(std::move(geometry), slab)), grid_(s_.bottom_bins, slab.width()),
           detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           physics_(s_, slab.floor_depth()), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
@@ -153,7 +168,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         detail::ChunkPool<Record> pool;
         std::vector<detail::BlockResult<Record>> results;
         results.reserve(blocks.size());
-        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(detectors_.size(), &pool);
+        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(detectors_.size(), grid_.size(), &pool);
         detail::OrderedRecords<Record> map(blocks, s_.map_photons, std::move(storage));
         parallel_for(blocks.size(), s_.threads, [&](std::size_t i) {
             trace_block(blocks[i], results[i]);
@@ -168,6 +183,20 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
                 "exceeds what the photon record can label (CompactRecord: 64)");
         require_first_pass_fits_in_memory<Record>(s);
         return s;
+    }
+
+    static Geometry checked_geometry(Geometry g, const slab_type& slab) {
+        const Bounds b = g.bounds();
+        if (b.empty()) return g;
+        const double w = slab.width();
+        require(b.lo.x >= 0.0 && b.lo.y >= 0.0, "object bounds' lowest x, y (m)", std::min(b.lo.x, b.lo.y),
+                "must be >= 0 (objects lie in the section [0, W]^2)");
+        require(b.hi.x <= w && b.hi.y <= w, "object bounds' highest x, y (m)", std::max(b.hi.x, b.hi.y),
+                "must not exceed the section width (objects lie in the section [0, W]^2)");
+        require(b.lo.z >= 0.0, "object bounds' top depth (m)", b.lo.z, "must be >= 0 (below the surface)");
+        require(b.hi.z <= slab.floor_depth(), "object bounds' bottom depth (m)", b.hi.z,
+                "must not be below the floor (the bottom or the escape depth)");
+        return g;
     }
 
     struct PhotonState {
@@ -244,6 +273,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             if (importance_on_ && !change_level(p, rng, out.ledger, pending)) return;
             const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
             const FreeFlight<double> f = physics_.free_flight(p.pos.z, p.dir.z, s);
+            if constexpr (Geometry::has_objects) {  // the flight ends where it first meets an object
+                if (const auto hit = periodic_closest_hit(geometry_, slab_.width(), p.pos, p.dir, f.t)) {
+                    fly(p, hit->t, p.pos.z + p.dir.z * hit->t, out);
+                    if (!reflect_at_object(p, rng, out.ledger, *hit)) return;
+                    continue;
+                }
+            }
             fly(p, f.t, f.z1, out);
             const bool goes_on = f.to_surface || f.to_floor ? meet_boundary(p, rng, out, f.to_surface)
                                                             : interact(p, rng, out, slot);
@@ -255,8 +291,41 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// the bottom; the bottom's reflection, or transmission). False if it leaves or ends.
     bool meet_boundary(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool surface) const {
         if (surface) return leave_or_reflect_at_surface(p, rng, out);
-        if (slab_.has_bottom()) out.bottom_ed += p.w;
+        if (slab_.has_bottom()) {
+            out.bottom_ed += p.w;
+            if (grid_.size()) out.bottom_bins[grid_.bin(slab_.wrap(p.pos.x), slab_.wrap(p.pos.y))] += p.w;
+        }
         return reflect_at_bottom(p, rng, out.ledger);
+    }
+
+    /// Distance (m) by which a photon reflected by an object leaves its surface along the
+    /// normal, so that its next flight does not meet the same surface again at a rounding
+    /// distance (a hit point computed in doubles lies up to a few ulps inside the solid).
+    static constexpr double object_offset = 1e-9;
+
+    /// A photon that met an object (`hit`, scene/geometry.hpp): absorbed by a black surface
+    /// (albedo 0), else reflected Lambertian-ly, weight x A (implicit capture, continuous) or
+    /// surviving with probability A (analog), the rest absorbed by the object; the direction
+    /// cosine-weighted about the normal (pdf cos theta / pi), as at a Lambertian bottom.
+    /// False if the photon ends.
+    bool reflect_at_object(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, const ObjectHit& hit) const {
+        const double albedo = geometry_.material(hit.material).albedo;
+        if (albedo == 0.0) {
+            ledger.absorbed_objects += p.w;
+            return false;
+        }
+        if (!physics_.analog()) {
+            ledger.absorbed_objects += p.w * (1.0 - albedo);
+            p.w *= albedo;
+        } else if (rng.uniform() >= albedo) {
+            ledger.absorbed_objects += p.w;
+            return false;
+        }
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        p.dir = lambertian_direction(hit.normal, u1, u2);
+        p.pos += hit.normal * object_offset;
+        p.pos.z = std::clamp(p.pos.z, 0.0, slab_.floor_depth());
+        return roulette(p, rng, ledger);
     }
 
     /// Splitting (deeper level) or Russian roulette (shallower level) to the photon's
@@ -465,6 +534,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         const std::size_t nd = detectors_.size();
         std::vector<std::vector<IrradianceTally>> batch_tally(s_.batches, std::vector<IrradianceTally>(nd));
         std::vector<double> batch_bottom(s_.batches, 0.0), batch_photons(s_.batches, 0.0);
+        std::vector<std::vector<double>> batch_bins(s_.batches, std::vector<double>(grid_.size(), 0.0));
         std::vector<std::array<double, 3>> batch_above(s_.batches, {0.0, 0.0, 0.0});
         TransportResult<Record> r;
         r.records = std::move(records);
@@ -474,6 +544,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             for (std::size_t d = 0; d < nd; ++d)
                 for (int k = 0; k < 4; ++k) batch_tally[blk.batch][d][k] += res.tally[d][k];
             batch_bottom[blk.batch] += res.bottom_ed;
+            for (std::size_t k = 0; k < grid_.size(); ++k) batch_bins[blk.batch][k] += res.bottom_bins[k];
             batch_above[blk.batch][0] += res.ed_direct;
             batch_above[blk.batch][1] += res.ed_diffuse;
             batch_above[blk.batch][2] += res.eu_air;
@@ -491,13 +562,17 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         for (std::size_t d = 0; d < nd; ++d)
             for (int k = 0; k < 4; ++k) r.irradiance[d][k] = estimate([&](unsigned b) { return batch_tally[b][d][k]; });
         r.bottom_ed = estimate([&](unsigned b) { return batch_bottom[b]; });
+        r.bottom_ed_bins.resize(grid_.size());
+        const double area_ratio = grid_.area_ratio();
+        for (std::size_t k = 0; k < grid_.size(); ++k)
+            r.bottom_ed_bins[k] = estimate([&](unsigned b) { return area_ratio * batch_bins[b][k]; });
         r.above.ed_direct = estimate([&](unsigned b) { return batch_above[b][0]; });
         r.above.ed_diffuse = estimate([&](unsigned b) { return batch_above[b][1]; });
         r.above.eu = estimate([&](unsigned b) { return batch_above[b][2]; });
         const double n = static_cast<double>(s_.photons);
         for (double* f : {&r.ledger.incident, &r.ledger.surface_reflected, &r.ledger.escaped_up, &r.ledger.to_space,
                           &r.ledger.absorbed_air, &r.ledger.absorbed,
-                          &r.ledger.absorbed_bottom, &r.ledger.transmitted, &r.ledger.truncated,
+                          &r.ledger.absorbed_bottom, &r.ledger.absorbed_objects, &r.ledger.transmitted, &r.ledger.truncated,
                           &r.ledger.roulette_killed, &r.ledger.roulette_gained})
             *f /= n;
         r.photons = s_.photons;
@@ -513,6 +588,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     Surface surface_;
     Source source_;
     TransportSettings s_;
+    Geometry geometry_;
+    BottomGrid grid_;  ///< Ed on the bottom per bin (settings.bottom_bins)
     Detector detectors_;
     EventPhysics physics_;  ///< the per-event rules of the settings
     bool importance_on_;
