@@ -39,8 +39,8 @@ struct Rand {
 };
 
 AxisBox random_box(Rand& r) {
-    const vec3 lo(r.in(-1.0, 1.0), r.in(-1.0, 1.0), r.in(-1.0, 1.0));
-    return {lo, lo + vec3(r.in(0.1, 2.0), r.in(0.1, 2.0), r.in(0.1, 2.0))};
+    const vec3 lo{r.in(-1.0, 1.0), r.in(-1.0, 1.0), r.in(-1.0, 1.0)};  // braces: drawn left to right
+    return {lo, lo + vec3{r.in(0.1, 2.0), r.in(0.1, 2.0), r.in(0.1, 2.0)}};
 }
 
 /// A point on a face of the box (away from its edges) and the face's outward normal.
@@ -117,7 +117,7 @@ TEST_CASE("AxisBox: grazing rays, along a face and just inside it") {
 TEST_CASE("Sphere: rays from outside hit where they were aimed; from inside they leave; grazing") {
     Rand r(22);
     for (int trial = 0; trial < 2000; ++trial) {
-        const vec3 c(r.in(-1.0, 1.0), r.in(-1.0, 1.0), r.in(-1.0, 1.0));
+        const vec3 c{r.in(-1.0, 1.0), r.in(-1.0, 1.0), r.in(-1.0, 1.0)};
         const double radius = r.in(0.1, 2.0);
         const Sphere s(c, radius);
         const vec3 n_out = r.direction(), p = c + radius * n_out;
@@ -209,7 +209,7 @@ TEST_CASE("Periodic copies: the closest hit across the seams is the brute-force 
     g.add(Sphere(vec3(1.0, 1.1, 1.5), 0.4), ObjectMaterial::lambertian(0.5));
     int hits = 0;
     for (int trial = 0; trial < 4000; ++trial) {
-        const vec3 o(r.in(-5.0, 5.0), r.in(-5.0, 5.0), r.in(0.0, 3.0));
+        const vec3 o{r.in(-5.0, 5.0), r.in(-5.0, 5.0), r.in(0.0, 3.0)};
         const vec3 d = r.direction();
         const double t_max = r.in(0.0, 6.0);
         // Brute force: every copy whose cell the flight's horizontal extent reaches, and one more.

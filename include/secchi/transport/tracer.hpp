@@ -73,7 +73,7 @@ namespace detail {
 /// What a block's photons produce: tallies, ledger, records (in chunks from the run's pool).
 template <class Record>
 struct BlockResult {
-    BlockResult(std::size_t depths, std::size_t bins, ChunkPool<Record>* pool)
+    BlockResult(std::size_t depths, ChunkPool<Record>* pool, std::size_t bins = 0)
         : tally(depths), bottom_bins(bins, 0.0), records(pool) {}
 
     std::vector<IrradianceTally> tally;  // per depth
@@ -168,7 +168,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         detail::ChunkPool<Record> pool;
         std::vector<detail::BlockResult<Record>> results;
         results.reserve(blocks.size());
-        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(detectors_.size(), grid_.size(), &pool);
+        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(detectors_.size(), &pool, grid_.size());
         detail::OrderedRecords<Record> map(blocks, s_.map_photons, std::move(storage));
         parallel_for(blocks.size(), s_.threads, [&](std::size_t i) {
             trace_block(blocks[i], results[i]);
