@@ -200,6 +200,7 @@ TEST_CASE("shards: the same first pass, and Lu from S maps equal to one map's up
     auto cfg = single_scattering_config(StoreKind::voi);
     cfg.transport.photons = cfg.transport.map_photons = 16000;
     cfg.transport.batches = 16;
+    cfg.steps = 16;
     for (StoreKind store : {StoreKind::voi, StoreKind::kdtree}) {
         cfg.store = store;
         cfg.shards = 1;
