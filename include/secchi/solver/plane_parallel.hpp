@@ -12,11 +12,15 @@
 // ranges, each range's records (in their first-pass order) built into a map of its own; batch
 // k's per-batch Lu sum (estimate/radiance.hpp's RadianceSum) is taken from the one shard holding
 // it, and the terms not drawn from photons (sky, bottom) from shard 0. S = 1 is the single map.
-// A shard's maps visit its photons in the same order whoever builds it, so the result depends
-// on S but not on how the shards are spread over processes (PassSplit below;
+// A shard's map visits its photons in the same order whichever process builds it, so the
+// result depends on S but not on how the shards are spread over processes (PassSplit below;
 // solver/mpi_plane_parallel.hpp): a seed and an S give the same bits for any number of ranks
-// and threads. The cost is query time: every ray queries S stores instead of one
-// (BENCHMARKS.md: the measured ratio).
+// dividing S and any number of threads. Another S adds Lu's per-batch terms in another order
+// (the last digits change; the irradiances do not). The cost: every ray queries S stores
+// instead of one; measured, Lu with 4 shards took 0.87-0.96 times as long as with one map (VOI
+// octree, 4 million records: the cost is per photon gathered; BENCHMARKS.md, "Distributed
+// runs"). On one process, S > 1 copies the records into the shards before the full list is
+// freed (twice the records' memory for a moment).
 #include "secchi/core/config.hpp"
 #include "secchi/estimate/radiance.hpp"
 #include "secchi/map/brute_force.hpp"
