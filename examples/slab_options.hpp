@@ -51,6 +51,9 @@ file's ADD_PHASE_FUNCTION_MODEL TYPEs):
                0.00192 U across it, the wind blowing towards DEG (default 0: +x);
                --facets projected-area (default: facets met in proportion to the area they
                show the photon, M93's weighting) or redraw (the manual's DIRSIG)
+  --shards 1   (the second pass's maps, each of an equal range of the batches: a divisor of
+               --batches; a run with S shards gives the same bits on 1 process as on any
+               number dividing S under mpirun (slab_mpi, docs/distributed.md))
   --tracer {tracers} (default photon; lanes: photons in SIMD lanes, the same
                estimates, faster when built for AVX2 or better, e.g. -march=native;
                lanes-float: in float lanes, twice as many per vector)
@@ -130,6 +133,7 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.cone_peak = secchi::parse_cone_peak(cl.text("cone-peak", "transmitted"));
     cfg.ray_grid = cl.unsigned_count("ray-grid", 10);
     cfg.section_width = cl.number("section-width", 1.0);
+    cfg.shards = cl.unsigned_count("shards", 1);
     return cfg;
 }
 
@@ -154,7 +158,7 @@ inline secchi::CommandLine command_line(int argc, char** argv) {
                                 "wind-azimuth", "facets", "bottom-depth", "bottom-albedo",
                                 "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                 "store", "radius", "steps", "omega", "ray-transmittance", "cone-peak", "ray-grid", "section-width",
-                                "tracer", "json"});
+                                "tracer", "shards", "json"});
 }
 
 }  // namespace secchi::examples::slab

@@ -194,6 +194,35 @@ TEST_CASE("k-d tree spheres, nanoflann spheres, the VOI stores and brute force a
     }
 }
 
+TEST_CASE("shards: the same first pass, and Lu from S maps equal to one map's up to the order of addition") {
+    // Each batch's sum comes from the shard holding its records: the same terms as one map's,
+    // added in another order; the irradiances are untouched by the second pass.
+    auto cfg = single_scattering_config(StoreKind::voi);
+    cfg.transport.photons = cfg.transport.map_photons = 16000;
+    cfg.transport.batches = 16;
+    cfg.steps = 16;
+    for (StoreKind store : {StoreKind::voi, StoreKind::kdtree}) {
+        cfg.store = store;
+        cfg.shards = 1;
+        const auto one = solve_plane_parallel(IsotropicPhase{}, cfg);
+        cfg.shards = 4;
+        const auto four = solve_plane_parallel(IsotropicPhase{}, cfg);
+        REQUIRE(one.depths.size() == four.depths.size());
+        CHECK(one.photons_stored == four.photons_stored);
+        for (std::size_t i = 0; i < one.depths.size(); ++i) {
+            for (int k = 0; k < 4; ++k) CHECK(one.depths[i].irradiance[k].value == four.depths[i].irradiance[k].value);
+            CHECK(one.depths[i].lu.value > 0.0);
+            CHECK(four.depths[i].lu.value == Approx(one.depths[i].lu.value).epsilon(1e-9));
+            CHECK(four.depths[i].lu.se == Approx(one.depths[i].lu.se).epsilon(1e-6));
+            CHECK(four.depths[i].photons_touched == one.depths[i].photons_touched);
+        }
+    }
+    cfg.shards = 3;  // does not divide 16 batches
+    CHECK_THROWS_AS(solve_plane_parallel(IsotropicPhase{}, cfg), input_error);
+    cfg.shards = 0;
+    CHECK_THROWS_AS(solve_plane_parallel(IsotropicPhase{}, cfg), input_error);
+}
+
 TEST_CASE("k-d tree spheres and the VOI cylinder give the same Lu within their combined SE on identical maps") {
     // Multiple scattering with a peaked phase function; the same seed gives the same map.
     PlaneParallelConfig cfg;

@@ -7,6 +7,20 @@
 // detectors tallied, the map stored. Second pass: the map built into the chosen store and nadir radiance Lu
 // estimated at each depth from a grid of vertical rays with the store's collection volume
 // (k-d tree: spheres at n steps; VOI octree: the cylinder). Every output carries its SE.
+//
+// Shards (PlaneParallelConfig::shards = S): the map's batches are split into S equal, contiguous
+// ranges, each range's records (in their first-pass order) built into a map of its own; batch
+// k's per-batch Lu sum (estimate/radiance.hpp's RadianceSum) is taken from the one shard holding
+// it, and the terms not drawn from photons (sky, bottom) from shard 0. S = 1 is the single map.
+// A shard's map visits its photons in the same order whichever process builds it, so the
+// result depends on S but not on how the shards are spread over processes (PassSplit below;
+// solver/mpi_plane_parallel.hpp): a seed and an S give the same bits for any number of ranks
+// dividing S and any number of threads. Another S adds Lu's per-batch terms in another order
+// (the last digits change; the irradiances do not). The cost: every ray queries S stores
+// instead of one; measured, Lu with 4 shards took 0.87-0.96 times as long as with one map (VOI
+// octree, 4 million records: the cost is per photon gathered; BENCHMARKS.md, "Distributed
+// runs"). On one process, S > 1 copies the records into the shards before the full list is
+// freed (twice the records' memory for a moment).
 #include "secchi/core/config.hpp"
 #include "secchi/estimate/radiance.hpp"
 #include "secchi/map/brute_force.hpp"
@@ -25,7 +39,10 @@
 #include "secchi/scene/any_source.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -96,6 +113,9 @@ struct PlaneParallelConfig {
     double section_width = 1.0;    ///< m, periodic horizontal section
     bool keep_map = false;         ///< return the stored records (for images)
     TracerKind tracer = TracerKind::photon;
+    /// Maps the second pass builds, each from an equal, contiguous range of the batches
+    /// (a divisor of transport.batches; see above). 1: one map.
+    unsigned shards = 1;
 };
 
 struct DepthResult {
@@ -144,21 +164,50 @@ inline AnySource source_of(const PlaneParallelConfig& cfg) {
     return SunAndSky(CollimatedSun(cfg.sun_zenith_deg), UniformSky(cfg.sky_irradiance));
 }
 
-/// The first pass by the tracer cfg.tracer names, through `surface`, from `source`.
-template <PhotonRecord Record, Medium M, AirWaterSurface Surface>
+/// One process runs the whole problem: the default PassSplit (see PassSplit).
+struct SingleProcess {
+    [[nodiscard]] unsigned rank() const { return 0; }
+    [[nodiscard]] unsigned ranks() const { return 1; }
+    template <class Record>
+    void gather_tallies(FirstPassPart<Record>&) const {}
+    [[nodiscard]] std::uint64_t total(std::uint64_t n) const { return n; }
+    void gather_lu(std::vector<RadianceSum>&, unsigned, unsigned) const {}
+};
+
+/// The blocks of batches [first_batch, last_batch) (make_blocks lists them batch by batch).
+inline BlockRange blocks_of_batches(const TransportSettings& s, unsigned first_batch, unsigned last_batch) {
+    const auto blocks = make_blocks(s.photons, s.batches, s.block_size);
+    auto at = [&](unsigned batch) {
+        return static_cast<std::size_t>(std::ranges::lower_bound(blocks, batch, {}, &Block::batch) - blocks.begin());
+    };
+    return {at(first_batch), at(last_batch)};
+}
+
+/// The first pass by the tracer cfg.tracer names, through `surface`, from `source`: this
+/// process's batches traced, the other processes' tallies gathered, merged in block order.
+template <PhotonRecord Record, Medium M, AirWaterSurface Surface, class Split>
 TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, const Surface& surface,
-                                           const AnySource& source, const PlaneParallelConfig& cfg) {
+                                           const AnySource& source, const PlaneParallelConfig& cfg, const Split& split) {
+    const unsigned b = cfg.transport.batches;
+    const BlockRange range = split.ranks() == 1 ? BlockRange{}
+                                                : blocks_of_batches(cfg.transport, b * split.rank() / split.ranks(),
+                                                                    b * (split.rank() + 1) / split.ranks());
+    auto run = [&](const auto& tracer) {
+        auto part = tracer.run_part(range);
+        split.gather_tallies(part);
+        return tracer.merge_part(std::move(part));
+    };
 #if SECCHI_HAS_LANES
     if constexpr (depth_independent<M>) {
         if (cfg.tracer == TracerKind::lanes)
-            return LaneTracer<M, Record, double, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
+            return run(LaneTracer<M, Record, double, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
         if (cfg.tracer == TracerKind::float_lanes)
-            return FloatLaneTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
+            return run(FloatLaneTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
     }
 #endif
     require(cfg.tracer == TracerKind::photon, "tracer", cfg.tracer == TracerKind::lanes ? "lanes" : "lanes-float",
             "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
-    return PhotonTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport).run();
+    return run(PhotonTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
 }
 
 /// The surface's refractive index of water: cfg's override, else the medium's own, else 1.34.
@@ -171,13 +220,13 @@ double water_index_of(const M& medium, const PlaneParallelConfig& cfg) {
 }
 
 /// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.
-template <PhotonRecord Record, Medium M>
+template <PhotonRecord Record, Medium M, class Split>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnySource& source,
-                                   const PlaneParallelConfig& cfg) {
+                                   const PlaneParallelConfig& cfg, const Split& split) {
     const double n = water_index_of(medium, cfg);
     if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
-        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets), source, cfg);
-    return first_pass_through<Record>(medium, slab, FlatSurface(n), source, cfg);
+        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets), source, cfg, split);
+    return first_pass_through<Record>(medium, slab, FlatSurface(n), source, cfg, split);
 }
 
 /// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the
@@ -199,18 +248,6 @@ double nadir_ray_length(const Optics& optics, double z, const PlaneParallelConfi
     return length_to_transmittance(optics, Ray{{0.0, 0.0, z}, {0.0, 0.0, 1.0}, to_bottom}, cfg.ray_transmittance);
 }
 
-/// Lu at every depth from a photon map with the store's natural collection volume: the whole
-/// radiance of K x K nadir rays (estimate/radiance.hpp: the path radiance down to where the
-/// transmittance falls to cfg.ray_transmittance or to the bottom, plus a Lambertian bottom's
-/// A Ed(bottom) / pi carried up by the ray's transmittance).
-template <class Store, CollectionVolume Volume, RayOptics Optics>
-void estimate_lu(const PhotonMap<Store>& map, const Volume& volume, const Optics& optics, const PlaneParallelConfig& cfg,
-                 PlaneParallelResult& out) {
-    const RadianceEstimator est(map, volume, optics, Radius(cfg.radius), RadianceSettings{cfg.ray_transmittance});
-    for (auto& d : out.depths)
-        d.lu = est.average(nadir_ray_grid(d.depth, INFINITY, cfg.ray_grid, cfg.section_width), 0, cfg.transport.threads,
-                           &d.photons_touched);
-}
 }  // namespace detail
 
 namespace detail {
@@ -224,12 +261,14 @@ struct FirstPass {
     MapScene scene;
 };
 
-template <PhotonRecord Record, Medium M>
+/// The first pass; with a split among processes (PassSplit), complete on rank 0 only, and
+/// every process's transport.records its own batches'.
+template <PhotonRecord Record, Medium M, class Split = SingleProcess>
 FirstPass<Record> run_first_pass(const M& medium, const PlaneParallelConfig& cfg,
-                                 std::chrono::steady_clock::time_point t0) {
+                                 std::chrono::steady_clock::time_point t0, const Split& split = {}) {
     const Slab slab(cfg.section_width, cfg.bottom);
     const AnySource source = source_of(cfg);
-    auto tr = first_pass<Record>(medium, slab, source, cfg);
+    auto tr = first_pass<Record>(medium, slab, source, cfg, split);
     MapScene scene{slab, std::nullopt, SkyLight::of(source)};
     if (cfg.slopes.upwind == 0.0 && cfg.slopes.crosswind == 0.0) scene.flat_surface = FlatSurface(water_index_of(medium, cfg));
 
@@ -238,7 +277,7 @@ FirstPass<Record> run_first_pass(const M& medium, const PlaneParallelConfig& cfg
     out.source_irradiance = source.plane_irradiance();
     out.source_name = source.name();
     out.photons_traced = tr.photons;
-    out.photons_stored = tr.records.size();
+    out.photons_stored = split.total(tr.records.size());
     out.ledger = tr.ledger;
     out.bottom_ed = tr.bottom_ed;
     out.flux_per_map_photon = tr.map_flux.per_record;
@@ -251,12 +290,72 @@ FirstPass<Record> run_first_pass(const M& medium, const PlaneParallelConfig& cfg
 }
 }  // namespace detail
 
+namespace detail {
+/// A shard's records: those of batches [first, last), in their order (shard_records).
+template <class Record>
+std::vector<Record> records_of_batches(const std::vector<Record>& records, unsigned first, unsigned last) {
+    std::vector<Record> out;
+    for (const Record& r : records)
+        if (r.batch() >= first && r.batch() < last) out.push_back(r);
+    return out;
+}
+
+/// The Lu sums of shards [first_shard, last_shard) of `shards`, over one depth's rays, as one
+/// RadianceSum: the first shard's whole sum (with the sky and bottom terms), every later
+/// shard's batches taken from that shard.
+template <class Estimators>
+RadianceSum shard_sum(const Estimators& estimators, const std::vector<Ray>& rays, unsigned batches, unsigned shards,
+                      unsigned first_shard, unsigned threads) {
+    RadianceSum sum = estimators.front().sum_over(rays, 0, threads);
+    for (std::size_t j = 1; j < estimators.size(); ++j) {
+        const RadianceSum s = estimators[j].sum_over(rays, 0, threads);
+        const unsigned shard = first_shard + static_cast<unsigned>(j);
+        for (unsigned k = batches * shard / shards; k < batches * (shard + 1) / shards; ++k)
+            sum.per_batch()[k] = s.per_batch()[k];
+        sum.count_photons(s.photons_touched());
+    }
+    return sum;
+}
+}  // namespace detail
+
+/// How a problem is spread over processes (solver/mpi_plane_parallel.hpp's MpiSplit), or not
+/// (detail::SingleProcess, the default). Rank r of R traces the batches [B r / R, B (r+1) / R)
+/// and builds the shards [S r / R, S (r+1) / R) from its own records, which requires that a
+/// photon's map batch is its first-pass batch (map photons = photons, divisible by the
+/// batches). gather_tallies brings every block's tallies into rank 0's part (merged there in
+/// block order); total sums a count over the ranks onto rank 0; gather_lu brings each depth's
+/// per-batch Lu sums of batches [first, last) of every rank into rank 0's sums.
+template <class S>
+concept PassSplit = requires(const S& split, FirstPassPart<CompactRecord>& part, std::vector<RadianceSum>& sums) {
+    { split.rank() } -> std::convertible_to<unsigned>;
+    { split.ranks() } -> std::convertible_to<unsigned>;
+    split.gather_tallies(part);
+    { split.total(std::uint64_t{}) } -> std::convertible_to<std::uint64_t>;
+    split.gather_lu(sums, 0u, 1u);
+};
+
 /// The plane-parallel problem in any Medium: first pass, map, and Lu with `optics` (the
 /// water's part of eq. 3.18 for the collection solid angle cfg.omega).
 /// cfg.attenuation and cfg.albedo are not used: the medium says everything.
-template <PhotonRecord Record = CompactRecord, Medium M, RayOptics Optics>
-PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optics, PlaneParallelConfig cfg) {
+/// Spread over processes by `split` (PassSplit), the result is complete on rank 0; on the
+/// other ranks it holds their own share only.
+template <PhotonRecord Record = CompactRecord, Medium M, RayOptics Optics, PassSplit Split = detail::SingleProcess>
+PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optics, PlaneParallelConfig cfg,
+                                            const Split& split = {}) {
     const auto t0 = std::chrono::steady_clock::now();
+    const unsigned batches = cfg.transport.batches, shards = cfg.shards, ranks = split.ranks();
+    require(shards >= 1 && batches % shards == 0, "shards", shards,
+            "must be >= 1 and divide the batches (" + std::to_string(batches) + ")");
+    require(shards % ranks == 0, "shards", shards,
+            "must be a multiple of the processes (" + std::to_string(ranks) + "): each builds whole shards");
+    if (ranks > 1) {
+        require(cfg.transport.map_photons == cfg.transport.photons, "map photons", cfg.transport.map_photons,
+                "must equal the photons (" + std::to_string(cfg.transport.photons) +
+                    ") in a run spread over processes: each builds its maps from the photons it traced");
+        require(cfg.transport.photons % batches == 0, "photons", cfg.transport.photons,
+                "must be a multiple of the batches (" + std::to_string(batches) +
+                    ") in a run spread over processes: a photon's map batch is then its first-pass batch");
+    }
     require(cfg.radius > 0 && cfg.radius < 0.5 * cfg.section_width, "radius", cfg.radius,
             "must be > 0 and < section_width / 2 (the collection volume's images come from the neighbouring sections)");
     require(cfg.ray_transmittance > 0.0 && cfg.ray_transmittance < 1.0, "ray transmittance", cfg.ray_transmittance,
@@ -270,16 +369,45 @@ PlaneParallelResult solve_plane_parallel_in(const M& medium, const Optics& optic
         for (double z : cfg.transport.depths) map_depth = std::max(map_depth, z + detail::nadir_ray_length(optics, z, cfg));
         cfg.transport.map_depth = map_depth + cfg.radius;
     }
-    auto first = detail::run_first_pass<Record>(medium, cfg, t0);
+    auto first = detail::run_first_pass<Record>(medium, cfg, t0, split);
     PlaneParallelResult& out = first.result;
     if (first.transport.map_photons > 0) {
         const StepSpheres spheres(cfg.steps, 0.0, cfg.bottom.depth());
         const VoiCylinder cylinder(0.0, cfg.bottom.depth());
+        // Lu at every depth with the store's natural collection volume: the whole radiance of
+        // K x K nadir rays (estimate/radiance.hpp: the path radiance down to where the
+        // transmittance falls to cfg.ray_transmittance or to the bottom, plus a Lambertian
+        // bottom's A Ed(bottom) / pi carried up by the ray's transmittance), from this
+        // process's shards, each a map of its batches' records (one shard: every record here).
+        const unsigned first_shard = shards * split.rank() / ranks, last_shard = shards * (split.rank() + 1) / ranks;
         auto run = [&]<class Store>(std::type_identity<Store>, const auto& volume, auto... store_args) {
-            const auto map = PhotonMap<Store>::from_first_pass(std::move(first.transport), first.scene, store_args...);
-            out.store_bytes = map.store().memory_bytes();
+            const TransportResult<Record>& tr = first.transport;
+            std::deque<PhotonMap<Store>> maps;
+            for (unsigned j = first_shard; j < last_shard; ++j) {
+                std::vector<Record> records = last_shard - first_shard == 1
+                                                  ? std::move(first.transport.records)
+                                                  : detail::records_of_batches(tr.records, batches * j / shards,
+                                                                               batches * (j + 1) / shards);
+                maps.emplace_back(Store(std::move(records), store_args...), tr.map_flux, tr.batches, first.scene,
+                                  tr.bottom_ed);
+            }
+            std::vector<Record>().swap(first.transport.records);
+            out.store_bytes = 0;
+            for (const auto& map : maps) out.store_bytes += map.store().memory_bytes();
             out.seconds_build = detail::seconds_since(t0) - out.seconds_transport;
-            detail::estimate_lu(map, volume, optics, cfg, out);
+            std::deque<RadianceEstimator<Store, std::remove_cvref_t<decltype(volume)>, Optics>> estimators;
+            for (const auto& map : maps)
+                estimators.emplace_back(map, volume, optics, Radius(cfg.radius), RadianceSettings{cfg.ray_transmittance});
+            std::vector<RadianceSum> sums;
+            for (const auto& d : out.depths)
+                sums.push_back(detail::shard_sum(estimators, nadir_ray_grid(d.depth, INFINITY, cfg.ray_grid, cfg.section_width),
+                                                 batches, shards, first_shard, cfg.transport.threads));
+            split.gather_lu(sums, batches * first_shard / shards, batches * last_shard / shards);
+            const double rays = static_cast<double>(cfg.ray_grid) * cfg.ray_grid;
+            for (std::size_t i = 0; i < sums.size(); ++i) {
+                out.depths[i].lu = sums[i].estimate(rays);
+                out.depths[i].photons_touched = sums[i].photons_touched();
+            }
         };
         switch (cfg.store) {
             case StoreKind::kdtree: run(std::type_identity<KdTreeStore<Record>>{}, spheres); break;
@@ -321,11 +449,13 @@ MappedWater<Store> trace_photon_map(const M& medium, const PlaneParallelConfig& 
 }
 
 /// Homogeneous water of attenuation cfg.attenuation and albedo cfg.albedo with one phase function.
-template <PhaseFunction Phase, PhotonRecord Record = CompactRecord>
-PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallelConfig& cfg) {
+/// Spread over processes by `split` (PassSplit), the result is complete on rank 0.
+template <PhaseFunction Phase, PhotonRecord Record = CompactRecord, PassSplit Split = detail::SingleProcess>
+PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallelConfig& cfg, const Split& split = {}) {
     const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
     const ConeAveragedPhase<Phase> cone(phase, cfg.omega, cfg.cone_peak);
-    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics(cone, medium.attenuation(), medium.scattering()), cfg);
+    auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics(cone, medium.attenuation(), medium.scattering()),
+                                               cfg, split);
     out.phase_name = phase.name();
     out.moments = phase_moments(phase);
     return out;

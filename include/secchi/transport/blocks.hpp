@@ -173,9 +173,12 @@ template <class Record>
 class OrderedRecords {
 public:
     /// `storage`: where the records go (cleared; its capacity is kept).
+    /// `blocks`: every block of the run, or a contiguous part of them (a process's share of a
+    /// first pass split among processes); the capacity heuristic counts only their map photons.
     OrderedRecords(const std::vector<Block>& blocks, std::uint64_t map_photons, std::vector<Record> storage = {})
         : blocks_(blocks), map_photons_(map_photons), done_(blocks.size(), false), records_(std::move(storage)) {
         records_.clear();
+        for (const Block& b : blocks_) map_photons_here_ += std::min(b.end, map_photons_) - std::min(b.begin, map_photons_);
     }
 
     template <class Results>
@@ -195,7 +198,7 @@ private:
         if (needed > records_.capacity()) {
             const double done = static_cast<double>(std::max<std::uint64_t>(map_photons_done_, 1));
             const double per_photon = static_cast<double>(needed) / done;
-            const auto expected = static_cast<std::size_t>(1.125 * per_photon * static_cast<double>(map_photons_));
+            const auto expected = static_cast<std::size_t>(1.125 * per_photon * static_cast<double>(map_photons_here_));
             records_.reserve(std::max(needed, expected));
             advise_huge_pages(records_.data() + records_.size(), (records_.capacity() - records_.size()) * sizeof(Record));
         }
@@ -203,7 +206,7 @@ private:
     }
 
     const std::vector<Block>& blocks_;
-    std::uint64_t map_photons_, map_photons_done_ = 0;
+    std::uint64_t map_photons_, map_photons_here_ = 0, map_photons_done_ = 0;
     std::vector<bool> done_;
     std::size_t next_ = 0;
     std::vector<Record> records_;

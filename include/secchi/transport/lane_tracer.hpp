@@ -95,10 +95,16 @@ public:
 
     /// As PhotonTracer::run: `storage` (cleared first) receives the map's records.
     TransportResult<Record> run(std::vector<Record> storage = {}) const {
-        return this->run_blocks(
-            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); },
+        return merge_part(run_part(BlockRange{}, std::move(storage)));
+    }
+
+    /// As PhotonTracer::run_part: only the blocks `range`.
+    FirstPassPart<Record> run_part(BlockRange range, std::vector<Record> storage = {}) const {
+        return this->trace_part(
+            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); }, range,
             std::move(storage));
     }
+    using Base::merge_part;
 
 private:
     static TransportSettings supported(TransportSettings s) {

@@ -8,6 +8,8 @@
 // so it ends in to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under
 // one that does not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
 #include "secchi/core/config.hpp"
+#include <array>
+#include <cstddef>
 namespace secchi::SECCHI_ISA {
 
 struct EnergyLedger {
@@ -24,21 +26,32 @@ struct EnergyLedger {
     double roulette_killed = 0;    ///< weight removed by Russian roulette
     double roulette_gained = 0;    ///< weight added to roulette survivors
 
+    /// Every account, in one fixed order, for code that treats them alike (sums, normalising,
+    /// sending them between processes).
+    static constexpr std::size_t accounts = 12;
+    [[nodiscard]] std::array<double*, accounts> entries() { return pointers(*this); }
+    [[nodiscard]] std::array<double, accounts> values() const {
+        std::array<double, accounts> v{};
+        const auto p = pointers(*this);
+        for (std::size_t i = 0; i < accounts; ++i) v[i] = *p[i];
+        return v;
+    }
+
     EnergyLedger& operator+=(const EnergyLedger& o) {
-        incident += o.incident;
-        surface_reflected += o.surface_reflected;
-        escaped_up += o.escaped_up;
-        to_space += o.to_space;
-        absorbed_air += o.absorbed_air;
-        absorbed += o.absorbed;
-        absorbed_bottom += o.absorbed_bottom;
-        absorbed_objects += o.absorbed_objects;
-        transmitted += o.transmitted;
-        truncated += o.truncated;
-        roulette_killed += o.roulette_killed;
-        roulette_gained += o.roulette_gained;
+        const auto mine = entries();
+        const auto theirs = o.values();
+        for (std::size_t i = 0; i < accounts; ++i) *mine[i] += theirs[i];
         return *this;
     }
+private:
+    template <class Self>  // EnergyLedger or const EnergyLedger
+    static auto pointers(Self& l) {
+        return std::array{&l.incident,        &l.surface_reflected, &l.escaped_up,  &l.to_space,
+                          &l.absorbed_air,    &l.absorbed,          &l.absorbed_bottom, &l.absorbed_objects,
+                          &l.transmitted,     &l.truncated,         &l.roulette_killed, &l.roulette_gained};
+    }
+
+public:
     /// incident minus everything accounted for; 0 up to rounding in analog mode.
     [[nodiscard]] double imbalance() const {
         return incident + roulette_gained -

@@ -36,7 +36,9 @@
 #include "secchi/transport/record_flux.hpp"
 #include "secchi/transport/settings.hpp"
 #include <algorithm>
+#include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace secchi::SECCHI_ISA {
@@ -85,6 +87,26 @@ struct BlockResult {
 };
 
 }  // namespace detail
+
+/// The blocks one process traces when a first pass is split among processes
+/// (solver/mpi_plane_parallel.hpp): [first, last) of make_blocks' list (blocks.hpp), clamped
+/// to it; every block by default.
+struct BlockRange {
+    std::size_t first = 0;
+    std::size_t last = SIZE_MAX;
+};
+
+/// A first pass traced in part (run_part): every block, every block's result slot (the blocks
+/// not traced here keep empty tallies, for another process's to be gathered into), and the
+/// records of the blocks traced here, in block order. merge_part turns it into the
+/// TransportResult once the slots hold every block's tallies.
+template <class Record>
+struct FirstPassPart {
+    std::vector<detail::Block> blocks;
+    std::vector<detail::BlockResult<Record>> results;
+    std::vector<Record> records;
+    BlockRange traced;  ///< the blocks traced here (clamped)
+};
 
 /// input_error naming the photons or the map photons unless what a first pass of `s` allocates
 /// at the least fits in the physical memory, `runs` times over (a spectral map keeps every
@@ -153,28 +175,50 @@ public:
     /// records of an earlier run (`std::move(result.records)`) to reuse their memory, which
     /// spares the page faults of fresh memory (about a sixth of LaneTracer's time; docs/design-notes.md).
     TransportResult<Record> run(std::vector<Record> storage = {}) const {
-        return run_blocks(
-            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); },
+        return merge_part(run_part(BlockRange{}, std::move(storage)));
+    }
+
+    /// Traces only the blocks `range` (a process's share of a first pass split among
+    /// processes); run() is merge_part(run_part(BlockRange{})).
+    FirstPassPart<Record> run_part(BlockRange range, std::vector<Record> storage = {}) const {
+        return trace_part(
+            [this](const detail::Block& block, detail::BlockResult<Record>& out) { trace_block(block, out); }, range,
             std::move(storage));
     }
 
+    /// The first pass's result from a part whose result slots hold every block's tallies (the
+    /// whole pass traced here, or the other processes' tallies gathered into it): the tallies
+    /// merged in block order, whichever process traced a block, so the sums are the same
+    /// bits; the records are the part's.
+    TransportResult<Record> merge_part(FirstPassPart<Record>&& part) const {
+        return merge(part.blocks, part.results, std::move(part.records));
+    }
+
 protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
-    /// Traces every block with `trace_block(block, result)` on the settings' threads; the
-    /// records go into the map in block order as blocks finish (blocks.hpp), and the tallies
-    /// are merged in block order at the end.
+    /// Traces the blocks `range` with `trace_block(block, result)` on the settings' threads;
+    /// the records go into the map in block order as blocks finish (blocks.hpp).
     template <class TraceBlock>
-    TransportResult<Record> run_blocks(TraceBlock&& trace_block, std::vector<Record> storage) const {
-        const auto blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
+    FirstPassPart<Record> trace_part(TraceBlock&& trace_block, BlockRange range, std::vector<Record> storage) const {
+        FirstPassPart<Record> part;
+        part.blocks = detail::make_blocks(s_.photons, s_.batches, s_.block_size);
+        const std::size_t n = part.blocks.size(), first = std::min(range.first, n), last = std::min(range.last, n);
+        require(first <= last, "block range", range.first, "must not start after its end");
+        part.traced = {first, last};
         detail::ChunkPool<Record> pool;
-        std::vector<detail::BlockResult<Record>> results;
-        results.reserve(blocks.size());
-        for (std::size_t i = 0; i < blocks.size(); ++i) results.emplace_back(detectors_.size(), &pool, grid_.size());
-        detail::OrderedRecords<Record> map(blocks, s_.map_photons, std::move(storage));
-        parallel_for(blocks.size(), s_.threads, [&](std::size_t i) {
-            trace_block(blocks[i], results[i]);
+        part.results.reserve(n);
+        for (std::size_t i = 0; i < n; ++i) part.results.emplace_back(detectors_.size(), &pool, grid_.size());
+        const std::vector<detail::Block> here(part.blocks.begin() + static_cast<std::ptrdiff_t>(first),
+                                              part.blocks.begin() + static_cast<std::ptrdiff_t>(last));
+        const auto results = std::span(part.results).subspan(first, last - first);
+        detail::OrderedRecords<Record> map(here, s_.map_photons, std::move(storage));
+        parallel_for(here.size(), s_.threads, [&](std::size_t i) {
+            trace_block(here[i], results[i]);
             map.finished(i, results);
         });
-        return merge(blocks, results, map.take());
+        part.records = map.take();
+        // Every block's chunks went into the map; none refers to the pool, which ends here.
+        for (auto& r : part.results) r.records = detail::RecordChunks<Record>();
+        return part;
     }
 
     static TransportSettings validated(TransportSettings s) {
@@ -570,11 +614,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         r.above.ed_diffuse = estimate([&](unsigned b) { return batch_above[b][1]; });
         r.above.eu = estimate([&](unsigned b) { return batch_above[b][2]; });
         const double n = static_cast<double>(s_.photons);
-        for (double* f : {&r.ledger.incident, &r.ledger.surface_reflected, &r.ledger.escaped_up, &r.ledger.to_space,
-                          &r.ledger.absorbed_air, &r.ledger.absorbed,
-                          &r.ledger.absorbed_bottom, &r.ledger.absorbed_objects, &r.ledger.transmitted, &r.ledger.truncated,
-                          &r.ledger.roulette_killed, &r.ledger.roulette_gained})
-            *f /= n;
+        for (double* f : r.ledger.entries()) *f /= n;
         r.photons = s_.photons;
         r.map_photons = s_.map_photons;
         r.batches = s_.batches;
