@@ -220,9 +220,9 @@ double water_index_of(const M& medium, const PlaneParallelConfig& cfg) {
 }
 
 /// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.
-template <PhotonRecord Record, Medium M, class Split>
+template <PhotonRecord Record, Medium M, class Split = SingleProcess>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnySource& source,
-                                   const PlaneParallelConfig& cfg, const Split& split) {
+                                   const PlaneParallelConfig& cfg, const Split& split = {}) {
     const double n = water_index_of(medium, cfg);
     if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
         return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets), source, cfg, split);

@@ -26,9 +26,19 @@ struct EnergyLedger {
     double roulette_killed = 0;    ///< weight removed by Russian roulette
     double roulette_gained = 0;    ///< weight added to roulette survivors
 
+    static constexpr std::size_t accounts = 12;  ///< the number of accounts
+
+private:
+    template <class Self>  // EnergyLedger or const EnergyLedger
+    static auto pointers(Self& l) {
+        return std::array{&l.incident,        &l.surface_reflected, &l.escaped_up,  &l.to_space,
+                          &l.absorbed_air,    &l.absorbed,          &l.absorbed_bottom, &l.absorbed_objects,
+                          &l.transmitted,     &l.truncated,         &l.roulette_killed, &l.roulette_gained};
+    }
+
+public:
     /// Every account, in one fixed order, for code that treats them alike (sums, normalising,
     /// sending them between processes).
-    static constexpr std::size_t accounts = 12;
     [[nodiscard]] std::array<double*, accounts> entries() { return pointers(*this); }
     [[nodiscard]] std::array<double, accounts> values() const {
         std::array<double, accounts> v{};
@@ -43,15 +53,6 @@ struct EnergyLedger {
         for (std::size_t i = 0; i < accounts; ++i) *mine[i] += theirs[i];
         return *this;
     }
-private:
-    template <class Self>  // EnergyLedger or const EnergyLedger
-    static auto pointers(Self& l) {
-        return std::array{&l.incident,        &l.surface_reflected, &l.escaped_up,  &l.to_space,
-                          &l.absorbed_air,    &l.absorbed,          &l.absorbed_bottom, &l.absorbed_objects,
-                          &l.transmitted,     &l.truncated,         &l.roulette_killed, &l.roulette_gained};
-    }
-
-public:
     /// incident minus everything accounted for; 0 up to rounding in analog mode.
     [[nodiscard]] double imbalance() const {
         return incident + roulette_gained -
