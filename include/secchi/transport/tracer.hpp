@@ -347,6 +347,20 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// distance (a hit point computed in doubles lies up to a few ulps inside the solid).
     static constexpr double object_offset = 1e-9;
 
+    /// Reflection with reflectance rho by a surface that absorbs the rest (the bottom, an
+    /// object): weight x rho (implicit capture, continuous), or survival with probability rho
+    /// (analog); what is not reflected goes to `absorbed`. False if the photon ends.
+    bool survives_reflection(PhotonState& p, PhotonRng& rng, double rho, double& absorbed) const {
+        if (!physics_.analog()) {
+            absorbed += p.w * (1.0 - rho);
+            p.w *= rho;
+            return true;
+        }
+        if (rng.uniform() < rho) return true;
+        absorbed += p.w;
+        return false;
+    }
+
     /// A photon that met an object (`hit`, scene/geometry.hpp): absorbed by a black surface
     /// (albedo 0), else reflected Lambertian-ly, weight x A (implicit capture, continuous) or
     /// surviving with probability A (analog), the rest absorbed by the object; the direction
@@ -358,13 +372,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             ledger.absorbed_objects += p.w;
             return false;
         }
-        if (!physics_.analog()) {
-            ledger.absorbed_objects += p.w * (1.0 - albedo);
-            p.w *= albedo;
-        } else if (rng.uniform() >= albedo) {
-            ledger.absorbed_objects += p.w;
-            return false;
-        }
+        if (!survives_reflection(p, rng, albedo, ledger.absorbed_objects)) return false;
         const double u1 = rng.uniform(), u2 = rng.uniform();
         p.dir = lambertian_direction(hit.normal, u1, u2);
         p.pos += hit.normal * object_offset;
@@ -481,13 +489,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             return false;
         }
         const double rho = b.reflectance(p.dir);
-        if (!physics_.analog()) {
-            ledger.absorbed_bottom += p.w * (1.0 - rho);
-            p.w *= rho;
-        } else if (rng.uniform() >= rho) {
-            ledger.absorbed_bottom += p.w;
-            return false;
-        }
+        if (!survives_reflection(p, rng, rho, ledger.absorbed_bottom)) return false;
         const double u1 = rng.uniform(), u2 = rng.uniform();
         p.dir = b.reflected_direction(p.dir, u1, u2);
         p.pos.z = b.depth();
