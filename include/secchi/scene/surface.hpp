@@ -6,10 +6,13 @@
 // lets the photon meet the surface again while its direction points back across it (a
 // wind-blown surface's tilted facets can send light down into the air side or up into the
 // water side). Models: FlatSurface (flat_surface.hpp), WindBlownSurface (wind_blown_surface.hpp).
+// A surface with geometry (GeometricSurface: SinusoidalWave, wave_surface.hpp) is met where a
+// photon's path crosses it, at its local normal, instead of on the mean plane.
 #include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/rng.hpp"
 #include <concepts>
+#include <optional>
 
 namespace secchi::SECCHI_ISA {
 
@@ -32,5 +35,25 @@ concept AirWaterSurface = requires(const S& s, const vec3& dir, Side side, Photo
     { s.water_index() } -> std::convertible_to<double>;
     { S::random_facets } -> std::convertible_to<bool>;
 };
+
+/// A surface policy with geometry, lying between depths crest_depth() (<= 0) and
+/// trough_depth() (>= 0): first_crossing(o, d, side, t_max) is the first distance t in
+/// (0, t_max] at which the ray o + t d, starting on `side`, reaches the surface (or nothing);
+/// hit_at(p, d, side) the meeting at surface point p; normal_into_water(x, y) the unit normal
+/// pointing into the water; periodic_in(W) whether it repeats over a section of width W.
+template <class S>
+concept GeometricSurface = requires(const S& s, const vec3& p, const vec3& d, Side side, double t) {
+    { s.first_crossing(p, d, side, t) } -> std::same_as<std::optional<double>>;
+    { s.hit_at(p, d, side) } -> std::same_as<SurfaceHit>;
+    { s.normal_into_water(t, t) } -> std::same_as<vec3>;
+    { s.crest_depth() } -> std::convertible_to<double>;
+    { s.trough_depth() } -> std::convertible_to<double>;
+    { s.periodic_in(t) } -> std::convertible_to<bool>;
+    { s.water_index() } -> std::convertible_to<double>;
+};
+
+/// What the first pass (PhotonTracer) accepts: a facet policy or a surface with geometry.
+template <class S>
+concept SurfacePolicy = AirWaterSurface<S> || GeometricSurface<S>;
 
 }  // namespace secchi

@@ -29,7 +29,7 @@
 namespace secchi::SECCHI_ISA {
 
 /// A photon's flight to its next event: path length t to depth z1, and whether it ends on the
-/// surface (z1 = 0 exactly) or on the floor (the bottom or the escape depth).
+/// surface (z1 = the top, 0 exactly for the mean plane) or on the floor (the bottom or the escape depth).
 template <class Real>
 struct FreeFlight {
     Real t, z1;
@@ -54,8 +54,10 @@ struct ScatteringAngles {
 /// each function maps a photon's (or the lanes') values to the event's outcome.
 class EventPhysics {
 public:
-    EventPhysics(const TransportSettings& s, double floor_depth)
-        : mode_(s.absorption), floor_depth_(floor_depth), map_depth_(s.map_depth),
+    /// `top`: the depth where upward flights end, the mean surface plane (0), or the crests of a
+    /// surface with geometry (the tracer then ends flights earlier, where they cross it).
+    EventPhysics(const TransportSettings& s, double floor_depth, double top = 0.0)
+        : mode_(s.absorption), floor_depth_(floor_depth), top_(top), map_depth_(s.map_depth),
           roulette_weight_(s.roulette_weight), max_order_(s.max_order) {}
 
     [[nodiscard]] AbsorptionMode mode() const { return mode_; }
@@ -78,11 +80,12 @@ public:
     SECCHI_KERNEL FreeFlight<Real> free_flight(const Real& z, const Real& uz, const Real& s) const {
         using T = scalar_t<Real>;
         const Real floor_depth(static_cast<T>(floor_depth_));
+        const Real top(static_cast<T>(top_));
         const Real z_free = z + uz * s;
-        FreeFlight<Real> f{s, z_free, z_free < T(0), z_free >= floor_depth};
+        FreeFlight<Real> f{s, z_free, z_free < top, z_free >= floor_depth};
         if (any_lane(f.to_surface || f.to_floor)) {  // the divisions only where a photon meets a boundary
-            f.t = select(f.to_floor, (floor_depth - z) / uz, select(f.to_surface, -z / uz, s));
-            f.z1 = select(f.to_surface, Real(T(0)), z + uz * f.t);
+            f.t = select(f.to_floor, (floor_depth - z) / uz, select(f.to_surface, (top - z) / uz, s));
+            f.z1 = select(f.to_surface, top, z + uz * f.t);
             if constexpr (std::is_same_v<T, float>) f.z1 = select(f.to_floor, floor_depth, f.z1);
         }
         return f;
@@ -154,7 +157,7 @@ public:
 
 private:
     AbsorptionMode mode_;
-    double floor_depth_, map_depth_, roulette_weight_;
+    double floor_depth_, top_, map_depth_, roulette_weight_;
     unsigned max_order_;
 };
 

@@ -1,7 +1,8 @@
 #pragma once
 // The first pass (manual 3.3): equal-flux photons from a light source (a policy: a collimated
 // sun and a uniform sky, a parametric sky, or a traced atmosphere; scene/source.hpp),
-// refracted through the surface (a policy: flat, or wind-blown facets; scene/surface.hpp),
+// refracted through the surface (a policy: flat, wind-blown facets, or a surface with
+// geometry such as a sinusoidal wave, met where the photon's path crosses it; scene/surface.hpp),
 // exponential free paths (eq. 3.17), absorption or scattering by the albedo (3.3.5), storage
 // of scattering events in the photon map (3.3.6), Fresnel reflection and refraction at the
 // surface from below, the bottom (a policy: scene/bottom.hpp), opaque objects in the water (a
@@ -26,6 +27,7 @@
 #include "secchi/scene/source.hpp"
 #include "secchi/scene/sun_and_sky.hpp"
 #include "secchi/scene/surface.hpp"
+#include "secchi/scene/wave_surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/transport/blocks.hpp"
 #include "secchi/transport/bottom_grid.hpp"
@@ -124,14 +126,21 @@ void require_first_pass_fits_in_memory(const TransportSettings& s, double runs =
 }
 
 /// The policies: the water (Medium), what a stored event keeps (PhotonRecord), the air-water
-/// surface (AirWaterSurface), the light source (LightSource), the irradiance detectors
+/// surface (AirWaterSurface or GeometricSurface), the light source (LightSource), the irradiance detectors
 /// (IrradianceDetector), the bottom (BottomModel, scene/bottom.hpp) and the objects in the
 /// water (SceneGeometry, scene/geometry.hpp: NoGeometry, the default, compiles to the tracer
 /// without objects); the per-event rules are EventPhysics's, set by the settings.
-template <Medium M, PhotonRecord Record, AirWaterSurface Surface = FlatSurface, LightSource Source = SunAndSky,
+template <Medium M, PhotonRecord Record, SurfacePolicy Surface = FlatSurface, LightSource Source = SunAndSky,
           IrradianceDetector Detector = IrradiancePlanes, BottomModel BottomPolicy = Bottom,
           SceneGeometry Geometry = NoGeometry>
 class PhotonTracer {
+    /// A surface with geometry (wave_surface.hpp) lies between its crest and trough depths;
+    /// a flat or faceted one on the mean plane z = 0.
+    static constexpr bool wavy = GeometricSurface<Surface>;
+    static_assert(!wavy || depth_independent<M>,
+                  "a surface with geometry needs a depth-independent medium (the water above the mean plane "
+                  "has no layer of a stratified one)");
+
 public:
     using medium_type = M;
     using record_type = Record;
@@ -149,9 +158,10 @@ public:
         : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
           geometry_(checked_geometry(std::move(geometry), slab)), grid_(s_.bottom_bins, slab.width()),
           detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
-          physics_(s_, slab.floor_depth()), importance_on_(s_.importance.enabled()),
+          physics_(s_, slab.floor_depth(), surface_top(surface)), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
+        if constexpr (wavy) check_wave(surface, slab, source, s_, geometry_);
         if (!std::isfinite(slab.floor_depth())) {
             // Infinitely deep water has no cut-off (light returns from any depth, attenuated by
             // the diffuse attenuation, which can be far below c): photons end only by absorption
@@ -287,8 +297,16 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         const SourcePhoton sp = source_.emit(rng);
         if (!arrives(sp, p.w, out)) return false;
         p.dir = sp.dir;
-        const SurfaceHit h = sp.beam ? sun_hit(rng) : surface_.hit(p.dir, Side::air, rng);
-        return cross_surface(p, rng, Side::air, h, out.ledger.surface_reflected, out);  // lost light: surface_reflected
+        if constexpr (wavy) {  // from a uniform point of the plane over the crests down to the surface
+            p.pos.z = surface_.crest_depth();
+            const auto t = surface_.first_crossing(p.pos, p.dir, Side::air, air_path_limit(p));
+            if (!t) return leaves_in_air(p, out.ledger.surface_reflected, out);
+            p.pos += p.dir * *t;
+            return cross_wave(p, rng, Side::air, out.ledger.surface_reflected, out);
+        } else {
+            const SurfaceHit h = sp.beam ? sun_hit(rng) : surface_.hit(p.dir, Side::air, rng);
+            return cross_surface(p, rng, Side::air, h, out.ledger.surface_reflected, out);  // lost light: surface_reflected
+        }
     }
 
     /// Books a photon the source followed: its weight w into Ed(0+) if it arrives at the
@@ -316,7 +334,12 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         while (true) {
             if (importance_on_ && !change_level(p, rng, out.ledger, pending)) return;
             const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
-            const FreeFlight<double> f = physics_.free_flight(p.pos.z, p.dir.z, s);
+            FreeFlight<double> f = physics_.free_flight(p.pos.z, p.dir.z, s);
+            if constexpr (wavy) {  // the flight ends where it first reaches the surface
+                if (const auto t = surface_.first_crossing(p.pos, p.dir, Side::water, f.t)) {
+                    f = {*t, p.pos.z + p.dir.z * *t, true, false};
+                }
+            }
             if constexpr (Geometry::has_objects) {  // the flight ends where it first meets an object
                 if (const auto hit = periodic_closest_hit(geometry_, slab_.width(), p.pos, p.dir, f.t)) {
                     fly(p, hit->t, p.pos.z + p.dir.z * hit->t, out);
@@ -406,8 +429,83 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
 
     /// At the surface from below: reflect (Fresnel, total internal reflection) or escape.
     bool leave_or_reflect_at_surface(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out) const {
-        p.pos.z = 0.0;
-        return cross_surface(p, rng, Side::water, surface_.hit(p.dir, Side::water, rng), out.ledger.escaped_up, out);
+        if constexpr (wavy) {
+            return cross_wave(p, rng, Side::water, out.ledger.escaped_up, out);
+        } else {
+            p.pos.z = 0.0;
+            return cross_surface(p, rng, Side::water, surface_.hit(p.dir, Side::water, rng), out.ledger.escaped_up, out);
+        }
+    }
+
+    /// Distance (m) by which a photon leaving a surface with geometry is moved off it along
+    /// the local normal, to the side it goes on in (its next search starts off the surface).
+    static constexpr double surface_offset = 1e-9;
+
+    /// The photon is on a surface with geometry (wave_surface.hpp), arriving from `side`:
+    /// reflected or refracted at the local facet with the Fresnel probability (always a random
+    /// choice: reflected light can meet the surface again), until it is in the water (true) or
+    /// leaves upward through the plane over the crests (false: its weight goes to `left`,
+    /// the ledger's entry for light leaving through the surface). Light in the air moving
+    /// down, or up towards a neighbouring crest, meets the surface again where its path
+    /// crosses it. After max_surface_hits hits the photon stops, its weight truncated.
+    bool cross_wave(PhotonState& p, PhotonRng& rng, Side side, double& left, detail::BlockResult<Record>& out) const
+        requires wavy
+    {
+        for (int hits = 1;; ++hits) {
+            const SurfaceHit h = surface_.hit_at(p.pos, p.dir, side);
+            const bool reflect = rng.uniform() < h.reflectance;
+            p.dir = reflect ? h.reflected : h.transmitted;
+            const bool in_water = (side == Side::air) != reflect;
+            p.pos += surface_.normal_into_water(p.pos.x, p.pos.y) * (in_water ? surface_offset : -surface_offset);
+            if (in_water) return true;
+            const auto t = surface_.first_crossing(p.pos, p.dir, Side::air, air_path_limit(p));
+            if (!t) return leaves_in_air(p, left, out);
+            if (hits == max_surface_hits) break;
+            p.pos += p.dir * *t;
+            side = Side::air;
+        }
+        out.ledger.truncated += p.w;
+        return false;
+    }
+
+    /// How far a photon in the air can go before it is above the crests moving up (gone) or
+    /// must have met the surface (below the troughs moving down); infinite when horizontal.
+    double air_path_limit(const PhotonState& p) const requires wavy {
+        if (p.dir.z < 0.0) return std::max(0.0, (surface_.crest_depth() - p.pos.z) / p.dir.z);
+        if (p.dir.z > 0.0) return std::max(0.0, (surface_.trough_depth() - p.pos.z) / p.dir.z);
+        return INFINITY;
+    }
+
+    /// A photon in the air that does not meet the surface again: gone upward (Eu(0+)).
+    static bool leaves_in_air(const PhotonState& p, double& left, detail::BlockResult<Record>& out) {
+        out.eu_air += p.w;
+        left += p.w;
+        return false;
+    }
+
+    /// The top of the flights (EventPhysics): the mean plane, or the crests of a surface with geometry.
+    static double surface_top(const Surface& surface) {
+        if constexpr (wavy) return surface.crest_depth();
+        else return 0.0;
+    }
+
+    /// What a surface with geometry asks of the scene: it repeats over the section; the
+    /// detector planes, the objects and the floor lie below its troughs; a source that takes
+    /// light back (a traced atmosphere) is not coupled to it.
+    static void check_wave(const Surface& surface, const slab_type& slab, const Source& source,
+                           const TransportSettings& s, const Geometry& geometry) requires wavy {
+        require(surface.periodic_in(slab.width()), "section width (m)", slab.width(),
+                "must hold whole wavelengths of the surface in x and y (k W / 2 pi whole numbers)");
+        const double trough = surface.trough_depth();
+        for (const double z : s.depths)
+            require(z >= trough, "detector depth (m)", z, "must be at or below the wave's troughs (its amplitude)");
+        require(slab.floor_depth() > trough, "bottom or escape depth (m)", slab.floor_depth(),
+                "must be below the wave's troughs (its amplitude)");
+        const Bounds b = geometry.bounds();
+        require(b.empty() || b.lo.z >= trough, "object bounds' top depth (m)", b.lo.z,
+                "must be at or below the wave's troughs (its amplitude)");
+        require(!source.returns_light(), "light source", "a traced atmosphere",
+                "cannot be coupled to a surface with geometry (light leaving the water is not returned)");
     }
 
     /// The photon meets the surface from `side` (its first hit `h`) until it is in the water
@@ -466,12 +564,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
 
     /// The hit of a photon of the source's collimated beam: computed once when it draws no
     /// random numbers.
-    SurfaceHit sun_hit(PhotonRng& rng) const {
+    SurfaceHit sun_hit(PhotonRng& rng) const requires(!wavy) {
         if constexpr (Surface::random_facets) return surface_.hit(sun_direction_, Side::air, rng);
         else return *sun_hit_;
     }
     static std::optional<SurfaceHit> fixed_sun_hit(const Surface& surface, const vec3& sun_direction) {
-        if constexpr (Surface::random_facets) return std::nullopt;
+        if constexpr (wavy) return std::nullopt;  // met at a different facet by every photon
+        else if constexpr (Surface::random_facets) return std::nullopt;
         else {
             PhotonRng unused(0, 0);
             return surface.hit(sun_direction, Side::air, unused);
