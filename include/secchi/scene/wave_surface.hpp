@@ -25,6 +25,7 @@
 #include "secchi/core/math.hpp"
 #include "secchi/scene/fresnel.hpp"
 #include "secchi/scene/surface.hpp"
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
