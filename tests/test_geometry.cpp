@@ -10,6 +10,7 @@
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/scene/shapes.hpp"
 #include "secchi/transport/tracer.hpp"
+#include "random_draws.hpp"
 #include "transport_checks.hpp"
 #include <cmath>
 #include <random>
@@ -19,24 +20,7 @@ using namespace secchi;
 static_assert(SceneGeometry<NoGeometry> && SceneGeometry<Shapes>);
 
 namespace {
-struct Rand {
-    std::mt19937_64 gen;
-    std::uniform_real_distribution<double> uni{0.0, 1.0};
-    explicit Rand(std::uint64_t seed) : gen(seed) {}
-    double operator()() { return uni(gen); }
-    double in(double a, double b) { return a + (b - a) * uni(gen); }
-    vec3 direction() {  // uniform on the sphere
-        const double mu = in(-1.0, 1.0), phi = two_pi * uni(gen), s = std::sqrt(1.0 - mu * mu);
-        return {s * std::cos(phi), s * std::sin(phi), mu};
-    }
-    /// A direction d with dot(d, n) of the sign of `sign` (n a unit vector).
-    vec3 direction_against(const vec3& n, double sign) {
-        while (true) {
-            const vec3 d = direction();
-            if (glm::dot(d, n) * sign > 1e-3) return d;
-        }
-    }
-};
+using testing::Rand;
 
 AxisBox random_box(Rand& r) {
     const vec3 lo{r.in(-1.0, 1.0), r.in(-1.0, 1.0), r.in(-1.0, 1.0)};  // braces: drawn left to right

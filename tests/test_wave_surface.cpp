@@ -12,6 +12,7 @@
 #include "secchi/scene/shapes.hpp"
 #include "secchi/scene/wave_surface.hpp"
 #include "secchi/transport/tracer.hpp"
+#include "random_draws.hpp"
 #include "transport_checks.hpp"
 #include <cmath>
 #include <numbers>
@@ -23,16 +24,7 @@ static_assert(GeometricSurface<SinusoidalWave> && !AirWaterSurface<SinusoidalWav
 static_assert(SurfacePolicy<SinusoidalWave> && SurfacePolicy<FlatSurface>);
 
 namespace {
-struct Rand {
-    std::mt19937_64 gen;
-    std::uniform_real_distribution<double> uni{0.0, 1.0};
-    explicit Rand(std::uint64_t seed) : gen(seed) {}
-    double in(double a, double b) { return a + (b - a) * uni(gen); }
-    vec3 direction() {  // uniform on the sphere
-        const double mu = in(-1.0, 1.0), phi = in(0.0, 2.0 * std::numbers::pi), s = std::sqrt(1.0 - mu * mu);
-        return {s * std::cos(phi), s * std::sin(phi), mu};
-    }
-};
+using testing::Rand;
 
 /// The first t in (0, t_max] where the ray reaches the surface, by sampling g every `step`
 /// and bisecting the first sign change: the brute-force answer.
