@@ -144,3 +144,18 @@ TEST_CASE("The photon map projected on a vertical plane: flux density per voxel,
                         MapScene::open_water(1.0));
     CHECK(project_photon_map(map, 12.0, 64, 128).channel("Y") == y);
 }
+
+TEST_CASE("The projection from above the mean surface shows a wave's crests") {
+    std::vector<CompactRecord> records;  // 400 photons from 0.4 m above the mean surface to 0.4 m below it
+    for (int i = 0; i < 400; ++i) records.push_back(CompactRecord::make({0.5, 0.5, -0.4 + 0.8 * (i + 0.5) / 400}, {0, 0, 1}, 0, 0));
+    const double flux = 1e-3;
+    const Image crests = project_photon_map(records, RecordFlux::uniform(flux), 1.0, 2.0, 8, 24, -0.4);
+    const std::vector<float>& y = crests.channel("Y");
+    CHECK(std::accumulate(y.begin(), y.end(), 0.0) * (1.0 / 8) * (2.4 / 24) * 1.0 == Approx(400 * flux).epsilon(1e-5));
+    CHECK(y[4] > 0.0f);  // row 0 (z in [-0.4, -0.3)), the column x = 0.5
+    const Image below = project_photon_map(records, RecordFlux::uniform(flux), 1.0, 2.0, 8, 24);  // from z = 0: half of them
+    const std::vector<float>& yb = below.channel("Y");
+    CHECK(std::accumulate(yb.begin(), yb.end(), 0.0) * (1.0 / 8) * (2.0 / 24) * 1.0 == Approx(200 * flux).epsilon(1e-5));
+    CHECK_THROWS_WITH(project_photon_map(records, RecordFlux::uniform(flux), 1.0, 2.0, 8, 24, 0.5),
+                      Catch::Contains("projection top depth"));
+}
