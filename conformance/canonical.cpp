@@ -35,7 +35,7 @@ namespace {
 
 using namespace secchi;
 
-constexpr const char* usage_text = R"(usage: canonical --problem 1a|1b|2a|2b|3|4|5|6|kirk|all|LIST [--photons N] --store {stores} --seed S
+constexpr const char* usage_text = R"(usage: canonical --problem 1a|1b|2a|2b|3|4|5|6|kirk|all|LIST [--photons N | --budget-scale F] --store {stores} --seed S
                  --threads T --json FILE [--exr FILE] [--quick] [--material FILE [--material-entry ID|NAME]]
                  [--profile-csv FILE]
                  [--tracer {tracers}] [--facets {facets}]
@@ -62,7 +62,8 @@ by default the only one with BULK_PROPERTIES); its IOP profile (z, a, b, c, w0 e
 to 60 m) goes to --profile-csv (default iop_profile_3.csv beside the JSON); its depth
 importance splits photons each time tau_a grows by mu_i ln 2, mu_i = --importance-cosine
 (default 0.6; 0 turns it off). Without --photons each
-problem uses its default budget (see the table printed at the start). --exr (default
+problem uses its default budget (see the table printed at the start), times --budget-scale F
+(default 1; at least 1000 photons). --exr (default
 photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 --petzold petzold|petzold-trapezoid|petzold-linear chooses the particle phase function of
 problems 2a, 2b, 3, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
@@ -203,9 +204,13 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     auto& t = cfg.transport;
     cfg.bottom = p.bottom;
     t.depths = p.depths;
-    const std::uint64_t divisor = quick ? p.quick_divisor : 1;
-    t.photons = cl.count("photons", p.photons / divisor);
-    t.map_photons = std::min(t.photons, p.map_photons / divisor);
+    // --budget-scale F: F times each problem's default photons and map photons (bench/time_to_accuracy.py).
+    const double scale = cl.number("budget-scale", 1.0);
+    if (!(scale >= 1e-3 && scale <= 1e3)) reject("--budget-scale", cl.text("budget-scale"), "must lie in [0.001, 1000]");
+    const double divisor = (quick ? static_cast<double>(p.quick_divisor) : 1.0) / scale;
+    const auto scaled = [&](std::uint64_t n) { return std::max<std::uint64_t>(std::llround(static_cast<double>(n) / divisor), 1000); };
+    t.photons = cl.count("photons", scaled(p.photons));
+    t.map_photons = std::min(t.photons, scaled(p.map_photons));
     t.seed = cl.count("seed", 1);
     t.threads = cl.threads(1);
     t.absorption = AbsorptionMode::continuous;
@@ -604,7 +609,7 @@ int main(int argc, char** argv) {
         const CommandLine cl(argc, argv,
                              {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material", "material-entry",
                               "profile-csv", "importance-cosine", "tracer", "facets", "aerosol-g", "aerosol-albedo",
-                              "aerosol-scale-height"},
+                              "aerosol-scale-height", "budget-scale"},
                              {"quick"});
         // One problem, all of them, or a comma-separated list (e.g. 1a,1b,2a,2b).
         const std::string which = cl.required_text("problem");

@@ -317,4 +317,12 @@ TEST_CASE("Through the wave with scattering the ledger closes, for 1 and 2 threa
     CHECK_THROWS_WITH(T(water, Slab(wavelength, Bottom::lambertian_at(0.3, 0.5)), manual_wave(), sun, s),
                       Catch::Contains("bottom or escape depth"));
     CHECK_NOTHROW(T(water, slab, manual_wave(), sun, s));
+    // Objects reaching above the troughs (0.4 m) are refused; one just below them is taken.
+    using WithObjects = PhotonTracer<HgWater, CompactRecord, SinusoidalWave, SunAndSky, IrradiancePlanes, Bottom, Shapes>;
+    Shapes high, low;
+    high.add(AxisBox(vec3(1.0, 1.0, 0.3), vec3(2.0, 2.0, 1.0)), ObjectMaterial::absorbing());
+    low.add(AxisBox(vec3(1.0, 1.0, 0.4), vec3(2.0, 2.0, 1.0)), ObjectMaterial::absorbing());
+    CHECK_THROWS_WITH(WithObjects(water, slab, manual_wave(), sun, s, high),
+                      Catch::Contains("object bounds' top depth (m) = 0.3") && Catch::Contains("troughs"));
+    CHECK_NOTHROW(WithObjects(water, slab, manual_wave(), sun, s, low));
 }

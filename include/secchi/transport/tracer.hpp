@@ -156,12 +156,12 @@ public:
     PhotonTracer(const M& medium, const slab_type& slab, const Surface& surface, const Source& source,
                  TransportSettings settings, Geometry geometry = Geometry{})
         : medium_(medium), slab_(slab), surface_(surface), source_(source), s_(validated(std::move(settings))),
-          geometry_(checked_geometry(std::move(geometry), slab)), grid_(s_.bottom_bins, slab.width()),
+          geometry_(checked_geometry(std::move(geometry), slab, surface)), grid_(s_.bottom_bins, slab.width()),
           detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           physics_(s_, slab.floor_depth(), surface_top(surface)), importance_on_(s_.importance.enabled()),
           levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
-        if constexpr (wavy) check_wave(surface, slab, source, s_, geometry_);
+        if constexpr (wavy) check_wave(surface, slab, source, s_);
         if (!std::isfinite(slab.floor_depth())) {
             // Infinitely deep water has no cut-off (light returns from any depth, attenuated by
             // the diffuse attenuation, which can be far below c): photons end only by absorption
@@ -239,7 +239,9 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         return s;
     }
 
-    static Geometry checked_geometry(Geometry g, const slab_type& slab) {
+    /// The objects lie in the section, below the surface's lowest point (the mean plane, or a
+    /// wave's troughs) and above the floor.
+    static Geometry checked_geometry(Geometry g, const slab_type& slab, const Surface& surface) {
         const Bounds b = g.bounds();
         if (b.empty()) return g;
         const double w = slab.width();
@@ -247,7 +249,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
                 "must be >= 0 (objects lie in the section [0, W]^2)");
         require(b.hi.x <= w && b.hi.y <= w, "object bounds' highest x, y (m)", std::max(b.hi.x, b.hi.y),
                 "must not exceed the section width (objects lie in the section [0, W]^2)");
-        require(b.lo.z >= 0.0, "object bounds' top depth (m)", b.lo.z, "must be >= 0 (below the surface)");
+        require(b.lo.z >= surface_bottom(surface), "object bounds' top depth (m)", b.lo.z,
+                wavy ? "must be at or below the wave's troughs (its amplitude)" : "must be >= 0 (below the surface)");
         require(b.hi.z <= slab.floor_depth(), "object bounds' bottom depth (m)", b.hi.z,
                 "must not be below the floor (the bottom or the escape depth)");
         return g;
@@ -488,12 +491,17 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         if constexpr (wavy) return surface.crest_depth();
         else return 0.0;
     }
+    /// The surface's lowest point: the mean plane, or the troughs of a surface with geometry.
+    static double surface_bottom(const Surface& surface) {
+        if constexpr (wavy) return surface.trough_depth();
+        else return 0.0;
+    }
 
     /// What a surface with geometry asks of the scene: it repeats over the section; the
-    /// detector planes, the objects and the floor lie below its troughs; a source that takes
-    /// light back (a traced atmosphere) is not coupled to it.
+    /// detector planes and the floor lie below its troughs (the objects: checked_geometry); a
+    /// source that takes light back (a traced atmosphere) is not coupled to it.
     static void check_wave(const Surface& surface, const slab_type& slab, const Source& source,
-                           const TransportSettings& s, const Geometry& geometry) requires wavy {
+                           const TransportSettings& s) requires wavy {
         require(surface.periodic_in(slab.width()), "section width (m)", slab.width(),
                 "must hold whole wavelengths of the surface in x and y (k W / 2 pi whole numbers)");
         const double trough = surface.trough_depth();
@@ -501,9 +509,6 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             require(z >= trough, "detector depth (m)", z, "must be at or below the wave's troughs (its amplitude)");
         require(slab.floor_depth() > trough, "bottom or escape depth (m)", slab.floor_depth(),
                 "must be below the wave's troughs (its amplitude)");
-        const Bounds b = geometry.bounds();
-        require(b.empty() || b.lo.z >= trough, "object bounds' top depth (m)", b.lo.z,
-                "must be at or below the wave's troughs (its amplitude)");
         require(!source.returns_light(), "light source", "a traced atmosphere",
                 "cannot be coupled to a surface with geometry (light leaving the water is not returned)");
     }
