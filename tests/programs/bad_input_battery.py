@@ -176,6 +176,19 @@ CASES = [
     ("underwater_camera", "--out {tmp}/no/such/cam_", ["--out", "{tmp}/no/such/cam_"], []),
     ("underwater_camera", "--out {tmp}/empty.mat/cam_", ["--out", "{tmp}/empty.mat/cam_"], []),
     ("underwater_camera", "--out /proc/cam_", ["--out", "/proc/cam_"], []),
+    # ---- littoral_scenes ----------------------------------------------------------------
+    ("littoral_scenes", "--size 0", ["--size", "0"], []),
+    ("littoral_scenes", "--size 1e999", ["--size", "1e999"], []),
+    ("littoral_scenes", "--spp 0", ["--spp", "0"], []),
+    ("littoral_scenes", "--spp 1e9", ["--spp", "1e9"], []),
+    ("littoral_scenes", "--photons 10", ["--photons", "10"], []),
+    ("littoral_scenes", "--photons nan", ["--photons", "nan"], []),
+    ("littoral_scenes", "--photons -2e6", ["--photons", "-2e6"], []),
+    ("littoral_scenes", "--photons 1e18", ["--photons", "1e18"], []),
+    ("littoral_scenes", "--photons 1e10 --out {tmp}/lit_", ["photons", "memory"], ["{tmp}/lit_caustics_view.exr", "{tmp}/lit_baffle_detector.png"]),
+    ("littoral_scenes", "--out {tmp}/no/such/lit_", ["--out", "{tmp}/no/such/lit_"], []),
+    ("littoral_scenes", "--out {tmp}/empty.mat/lit_", ["--out", "{tmp}/empty.mat/lit_"], []),
+    ("littoral_scenes", "--out /proc/lit_", ["--out", "/proc/lit_"], []),
     # ---- embed_host ---------------------------------------------------------------------
     ("embed_host", "--radius 0.5", ["--radius", "0.5"], []),
     ("embed_host", "--radius -1", ["radius", "-1"], []),
@@ -197,6 +210,9 @@ CASES = [
     ("canonical", "--problem 1a --store voi --photons 1e18", ["photons", "memory"], []),
     ("canonical", "--problem 1a --store voi --photons 1x", ["--photons", "1x"], []),
     ("canonical", "--problem 1a --store voi --seed nan", ["--seed", "nan"], []),
+    ("canonical", "--problem 1a --store voi --budget-scale 0", ["--budget-scale", "0"], []),
+    ("canonical", "--problem 1a --store voi --budget-scale nan", ["--budget-scale", "nan"], []),
+    ("canonical", "--problem 1a --store voi --budget-scale 1e9", ["--budget-scale", "1e9"], []),
     ("canonical", "--problem 1a --store voi --tracer simd", ["tracer", "simd"], []),
     ("canonical", "--problem 5 --store voi --facets weighted", ["facets", "weighted"], []),
     ("canonical", "--problem all --store voi --petzold bogus", ["petzold", "bogus"], []),
@@ -215,14 +231,15 @@ CASES = [
     ("canonical", "--problem 1a --store voi --photons 0 --json {tmp}/c.json", ["photons", "0"], ["{tmp}/c.json", "{tmp}/photon_map_2a.exr"]),
 ]
 
-THREADED = ["slab", "kirk_aop", "spectral_case1", "underwater_camera", "embed_host", "canonical"]
+THREADED = ["slab", "kirk_aop", "spectral_case1", "underwater_camera", "littoral_scenes", "embed_host", "canonical"]
 PREFIX = {  # arguments a program needs before a shared case reaches the option under test
     "canonical": "--problem 1a --store voi",
     "spectral_case1": "--material {mat}/case1_chlorophyll.mat",
 }
 for program in THREADED:
     CASES += [(program, PREFIX.get(program, "") + " " + args, names, []) for args, names in THREADS]
-for program in ["slab", "iop_profile", "kirk_aop", "spectral_case1", "underwater_camera", "embed_host", "canonical"]:
+for program in ["slab", "iop_profile", "kirk_aop", "spectral_case1", "underwater_camera", "littoral_scenes", "embed_host",
+                "canonical"]:
     CASES += [(program, PREFIX.get(program, "") + " " + args, names, []) for args, names in COMMON]
 
 
