@@ -392,3 +392,57 @@ TEST_CASE("With objects the output is the same for 1 and 2 threads; objects outs
     many.bottom_bins = 5000;
     CHECK_THROWS_WITH(trace(water, NoGeometry{}, many), Catch::Contains("bottom bins"));
 }
+
+TEST_CASE("Albedo maps: refused by name, read by the point's cell through the periodic copies") {
+    CHECK_THROWS_WITH(AlbedoMap(2, 2, 1.0, {0.1, 0.2, 0.3}), Catch::Contains("albedo map values = 3"));
+    CHECK_THROWS_WITH(AlbedoMap(2, 1, 1.0, {0.1, 1.5}), Catch::Contains("albedo map[1] = 1.5"));
+    CHECK_THROWS_WITH(AlbedoMap(0, 1, 1.0, {}), Catch::Contains("albedo map cells per side"));
+    CHECK_THROWS_WITH(AlbedoMap(1, 1, 0.0, {0.5}), Catch::Contains("albedo map width"));
+    const AlbedoMap m(2, 2, 4.0, {0.1, 0.2, 0.3, 0.4});  // cells of 2 m: (0, 0) 0.1, (1, 0) 0.2, (0, 1) 0.3, (1, 1) 0.4
+    CHECK(m.at(1.0, 1.0) == 0.1);
+    CHECK(m.at(3.0, 1.0) == 0.2);
+    CHECK(m.at(1.0, 3.0) == 0.3);
+    CHECK(m.at(3.9, 3.9) == 0.4);
+    CHECK(m.at(-1.0, 1.0) == 0.2);   // x = -1 is x = 3 of the copy to the left
+    CHECK(m.at(9.0, 7.0) == 0.3);    // (1, 3) of a copy two periods over
+    CHECK(m.at(4.0, 0.0) == 0.1);    // on the seam: the next copy's first cell
+    const ObjectMaterial mapped = ObjectMaterial::mapped(m);
+    CHECK(mapped.albedo_at(vec3(3.0, 3.0, 2.0)) == 0.4);
+    CHECK(ObjectMaterial::lambertian(0.7).albedo_at(vec3(3.0, 3.0, 2.0)) == 0.7);
+}
+
+TEST_CASE("A box half black, half white by its albedo map: the black half absorbs what lands on it, exactly") {
+    // Non-scattering water (w0 = 0, continuous), vertical sun, index-matched surface (nothing
+    // reflected back down at it): every photon goes straight down from its launch point. On the
+    // box's top (z = 2 m) the map's left half (x < 0.5) is black and the right half white
+    // (A = 1): photons landing on the left are absorbed there with weight exp(-2 c); those on
+    // the right are reflected upward and leave through the surface (they cannot meet the box or
+    // its copies again). So the box absorbs N_left exp(-2 c) / N, photon by photon.
+    const double c = 0.2;
+    const IsoWater water = IsoWater::from_albedo(c, 0.0, IsotropicPhase{});
+    Shapes box;
+    box.add(AxisBox(vec3(0.25, 0.25, 2.0), vec3(0.75, 0.75, 2.5)), ObjectMaterial::mapped(AlbedoMap(2, 1, width, {0.0, 1.0})));
+    const auto s = shadow_settings(AbsorptionMode::continuous);
+    const auto r = ObjectTracer<IsoWater, Shapes>(water, Slab(width, Bottom::lambertian_at(depth, 0.0)), FlatSurface(1.0),
+                                                  SunAndSky(CollimatedSun(0.0)), s, box)
+                       .run();
+    double left = 0.0, right = 0.0;
+    for (const auto& blk : detail::make_blocks(s.photons, s.batches, s.block_size))
+        for (std::uint64_t i = blk.begin; i < blk.end; ++i) {
+            PhotonRng rng(s.seed, i);
+            const double x = width * rng.uniform(), y = width * rng.uniform();
+            if (x > 0.25 && x < 0.75 && y > 0.25 && y < 0.75) (x < 0.5 ? left : right) += 1.0;
+        }
+    const double n = static_cast<double>(s.photons);
+    INFO("on the black half " << left << ", on the white half " << right);
+    CHECK(left > 4000.0);
+    CHECK(right > 4000.0);
+    CHECK(r.ledger.absorbed_objects == Approx(left * std::exp(-c * 2.0) / n).epsilon(1e-12));
+    CHECK(std::abs(r.ledger.imbalance()) < 1e-12);
+    // A uniform map of the same albedo is the constant material, bit for bit.
+    Shapes grey_map, grey;
+    grey_map.add(AxisBox(vec3(0.25, 0.25, 2.0), vec3(0.75, 0.75, 2.5)), ObjectMaterial::mapped(AlbedoMap(1, 1, width, {0.5})));
+    grey.add(AxisBox(vec3(0.25, 0.25, 2.0), vec3(0.75, 0.75, 2.5)), ObjectMaterial::lambertian(0.5));
+    const HgWater hg = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
+    testing::require_identical(trace(hg, grey_map, s), trace(hg, grey, s));
+}

@@ -66,7 +66,7 @@ public:
         const double t_limit = std::min(ray.t_max, t_bottom);
         const auto hit = periodic_closest_hit(geometry_, map().section_width(), ray.origin, ray.direction, t_limit);
         if (hit) {  // a black object ends the ray: the path to it, nothing from it
-            const double albedo = geometry_.material(hit->material).albedo;
+            const double albedo = geometry_.material(hit->material).albedo_at(hit->point);
             if (albedo > 0.0)
                 reject("object albedo", albedo, "is not modelled by the second pass (only black objects: the light leaving "
                                                 "a Lambertian object needs its irradiance), object " +

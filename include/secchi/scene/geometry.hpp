@@ -20,8 +20,8 @@
 // seams of the section into the neighbouring copies.
 //
 // A photon meeting an object is reflected by its material, or absorbed: ObjectMaterial is
-// Lambertian with a constant albedo A (f_r = A / pi; A = 0 absorbs everything). Albedo maps
-// and glossy models (Ward) are not here yet.
+// Lambertian (f_r = A / pi; A = 0 absorbs everything) with a constant albedo A or an albedo
+// map, A(x, y) over the section seen from above (AlbedoMap). Glossy models (Ward) are not here.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
@@ -29,7 +29,11 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace secchi::SECCHI_ISA {
 
@@ -41,15 +45,58 @@ struct ObjectHit {
     std::uint32_t material;  ///< index into the geometry's materials
 };
 
+/// An albedo map seen from above: A in nx x ny equal cells over [0, W) x [0, W), cell (i, j)
+/// (index j nx + i) covering [i W / nx, (i + 1) W / nx) x [j W / ny, (j + 1) W / ny), repeating
+/// with period W in x and y (W the section's width, so that the periodic copies of an object
+/// carry the same map). A point takes the cell under it, whatever face it is on: a planar
+/// projection along z, as a texture on a box's top or a terrain.
+class AlbedoMap {
+public:
+    AlbedoMap(unsigned nx, unsigned ny, double width, std::vector<double> albedo)
+        : nx_(nx), ny_(ny), width_(width), albedo_(std::move(albedo)) {
+        require(nx >= 1 && ny >= 1, "albedo map cells per side", std::min(nx, ny), "must be >= 1");
+        require(std::isfinite(width) && width > 0.0, "albedo map width (m)", width, "must be finite and > 0");
+        require(albedo_.size() == static_cast<std::size_t>(nx) * ny, "albedo map values", albedo_.size(),
+                "must be nx x ny = " + std::to_string(static_cast<std::size_t>(nx) * ny));
+        for (std::size_t k = 0; k < albedo_.size(); ++k)
+            require(std::isfinite(albedo_[k]) && albedo_[k] >= 0.0 && albedo_[k] <= 1.0, indexed_name("albedo map", k),
+                    albedo_[k], "must be in [0, 1]");
+    }
+    /// A at the point (x, y) (any x, y: the map repeats with period W).
+    [[nodiscard]] double at(double x, double y) const {
+        const auto cell = [this](double v, unsigned n) {
+            const double w = v - width_ * std::floor(v / width_);  // in [0, W], W itself by rounding
+            return std::min(n - 1, static_cast<unsigned>(w / width_ * n));
+        };
+        return albedo_[static_cast<std::size_t>(cell(y, ny_)) * nx_ + cell(x, nx_)];
+    }
+
+private:
+    unsigned nx_, ny_;
+    double width_;
+    std::vector<double> albedo_;
+};
+
 /// An object's surface: Lambertian, f_r = A / pi, with albedo (directional-hemispherical
-/// reflectance, the same for every incidence) A in [0, 1]; A = 0 is a black, absorbing surface.
+/// reflectance, the same for every incidence) A in [0, 1], constant or from a map; A = 0 is a
+/// black, absorbing surface.
 struct ObjectMaterial {
-    double albedo = 0.0;
+    double albedo = 0.0;                    ///< A, where there is no map
+    std::shared_ptr<const AlbedoMap> map;   ///< if set: A = map->at(x, y) of the point met
+
+    ObjectMaterial() = default;
+    /// Unchecked (as an aggregate would be): the geometries check their materials (checked()).
+    explicit ObjectMaterial(double a, std::shared_ptr<const AlbedoMap> m = nullptr) : albedo(a), map(std::move(m)) {}
+
+    [[nodiscard]] double albedo_at(const vec3& p) const { return map ? map->at(p.x, p.y) : albedo; }
 
     static ObjectMaterial absorbing() { return {}; }
-    static ObjectMaterial lambertian(double albedo) {
-        require(std::isfinite(albedo) && albedo >= 0.0 && albedo <= 1.0, "object albedo", albedo, "must be in [0, 1]");
-        return {albedo};
+    static ObjectMaterial lambertian(double albedo) { return checked(ObjectMaterial(albedo)); }
+    static ObjectMaterial mapped(AlbedoMap map) { return ObjectMaterial(0.0, std::make_shared<const AlbedoMap>(std::move(map))); }
+    /// `m` after the check of its constant albedo (a map checks its own values).
+    static ObjectMaterial checked(ObjectMaterial m) {
+        require(std::isfinite(m.albedo) && m.albedo >= 0.0 && m.albedo <= 1.0, "object albedo", m.albedo, "must be in [0, 1]");
+        return m;
     }
 };
 

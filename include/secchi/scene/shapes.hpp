@@ -136,7 +136,7 @@ public:
     /// Adds a shape of material `m`; returns *this.
     Shapes& add(const Shape& shape, ObjectMaterial m) {
         shapes_.push_back(shape);
-        materials_.push_back(ObjectMaterial::lambertian(m.albedo));  // checked again: built by aggregate init
+        materials_.push_back(ObjectMaterial::checked(std::move(m)));  // checked again: built by aggregate init
         bounds_ = bounds_.merged(std::visit([](const auto& s) { return s.bounds(); }, shape));
         return *this;
     }

@@ -53,7 +53,7 @@ struct TriangleMesh {
 
 /// `mesh` after the checks of the contract above; `name` names it in the messages.
 inline TriangleMesh validated(TriangleMesh mesh, const std::string& name = "mesh") {
-    mesh.material = ObjectMaterial::lambertian(mesh.material.albedo);
+    mesh.material = ObjectMaterial::checked(std::move(mesh.material));
     require(!mesh.triangles.empty(), name + " triangle count", 0, "must be > 0");
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
         for (int k = 0; k < 3; ++k)

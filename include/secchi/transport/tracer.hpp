@@ -388,12 +388,12 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     }
 
     /// A photon that met an object (`hit`, scene/geometry.hpp): absorbed by a black surface
-    /// (albedo 0), else reflected Lambertian-ly, weight x A (implicit capture, continuous) or
+    /// (albedo 0 at the point met), else reflected Lambertian-ly, weight x A (implicit capture, continuous) or
     /// surviving with probability A (analog), the rest absorbed by the object; the direction
     /// cosine-weighted about the normal (pdf cos theta / pi), as at a Lambertian bottom.
     /// False if the photon ends.
     bool reflect_at_object(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, const ObjectHit& hit) const {
-        const double albedo = geometry_.material(hit.material).albedo;
+        const double albedo = geometry_.material(hit.material).albedo_at(hit.point);
         if (albedo == 0.0) {
             ledger.absorbed_objects += p.w;
             return false;
