@@ -1,7 +1,8 @@
 // The cost of geometry in the first pass: photons per second of PhotonTracer without objects,
 // with one analytic sphere (scene/shapes.hpp), with the same sphere as a mesh of about 1e5
 // triangles through Embree (scene/embree_mesh.hpp), and with 100 mesh rocks of 988 triangles
-// each (98,800 in all) spread over the section. Water c = 0.5 1/m, w0 = 0.8, HG g = 0.9; a
+// each (98,800 in all) spread over the section, and a terrain (scene/height_field.hpp) of
+// 224 x 224 nodes (100,352 triangles) covering the section at 4.5-5.5 m. Water c = 0.5 1/m, w0 = 0.8, HG g = 0.9; a
 // Lambertian bottom (A 0.2) at 6 m; sun at 30 degrees; a 2 m section; objects Lambertian
 // (A 0.3). The variants run in paired rounds (each round runs all of them), and each row
 // gives the median photons/s and the median of the rounds' time ratios to the run without
@@ -11,9 +12,11 @@
 #include <secchi/io/cli.hpp>
 #include <secchi/optics/phase/henyey_greenstein.hpp>
 #include <secchi/scene/embree_mesh.hpp>
+#include <secchi/scene/height_field.hpp>
 #include <secchi/scene/shapes.hpp>
 #include <secchi/transport/tracer.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <vector>
@@ -68,6 +71,10 @@ int main(int argc, char** argv) {
         sphere.add(Sphere(centre, radius), ObjectMaterial::lambertian(0.3));
         const EmbreeMesh sphere_mesh_1e5({sphere_mesh(centre, radius, 224, 224, ObjectMaterial::lambertian(0.3))});
         const EmbreeMesh rock_field(rocks());
+        const HeightField terrain = HeightField::from_function(
+            224, 224, width, 6.0,
+            [](double x, double y) { return 5.0 + 0.3 * std::sin(two_pi * x / width) * std::cos(two_pi * 2.0 * y / width) + 0.2 * std::cos(two_pi * 3.0 * x / width); },
+            ObjectMaterial::lambertian(0.3));
 
         struct Variant {
             const char* name;
@@ -83,6 +90,7 @@ int main(int argc, char** argv) {
                             [&] { return trace(sphere_mesh_1e5, photons, threads); }, {}, {}});
         variants.push_back({"100 rocks (Embree meshes)", rock_field.triangle_count(),
                             [&] { return trace(rock_field, photons, threads); }, {}, {}});
+        variants.push_back({"terrain (height field)", 2u * 224u * 224u, [&] { return trace(terrain, photons, threads); }, {}, {}});
         for (int round = 0; round < rounds; ++round)
             for (Variant& v : variants) {
                 TransportResult<CompactRecord> r;

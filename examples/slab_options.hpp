@@ -17,7 +17,7 @@ inline constexpr const char* usage_text = R"(usage: slab --phase {phases} --albe
             --sun-zenith DEG [--sky E | --source parametric-sky [--direct E --diffuse E]
             | --source atmosphere [--rayleigh-tau T --aerosol-tau T --aerosol-g G --aerosol-albedo W
             --aerosol-scale-height KM]] --water-index N [--wind U [--slopes {slopes} --wind-azimuth DEG]
-            | --slope-variance S2] [--facets {facets}]
+            | --slope-variance S2] [--facets {facets}] [--shadowing {shadowings}]
             [--bottom-depth TAU --bottom-albedo A]
             --depths 0,1,5,10 --photons N --seed S --threads T --store {stores}
             [--radius R] [--steps K] --json FILE
@@ -50,7 +50,9 @@ file's ADD_PHASE_FUNCTION_MODEL TYPEs):
                Munk's anisotropic slopes instead, 0.00316 U along the wind and 0.003 +
                0.00192 U across it, the wind blowing towards DEG (default 0: +x);
                --facets projected-area (default: facets met in proportion to the area they
-               show the photon, M93's weighting) or redraw (the manual's DIRSIG)
+               show the photon, M93's weighting) or redraw (the manual's DIRSIG);
+               --shadowing none (default, M93) or smith: light leaving the surface is hidden
+               by the other waves with Smith's probability 1 - G1 and meets it again
   --shards 1   (the second pass's maps, each of an equal range of the batches: a divisor of
                --batches; a run with S shards gives the same bits on 1 process as on any
                number dividing S under mpirun (slab_mpi, docs/distributed.md))
@@ -112,6 +114,7 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.water_index = cl.number("water-index", 1.34);
     cfg.slopes = facet_slopes(cl);
     cfg.facets = secchi::parse_facets(cl.text("facets", "projected-area"));
+    cfg.shadowing = secchi::parse_shadowing(cl.text("shadowing", "none"));
     if (cl.has("bottom-depth"))
         cfg.bottom = secchi::Bottom::lambertian_at(cl.number("bottom-depth", 0), cl.number("bottom-albedo", 0.0));
     else if (cl.has("bottom-albedo"))
@@ -144,6 +147,7 @@ inline std::string usage() {
                                            {"stores", secchi::store_usage()},
                                            {"slopes", secchi::usage_names(slope_model_names())},
                                            {"facets", secchi::usage_names(secchi::facet_sampling_names())},
+                                           {"shadowings", secchi::usage_names(secchi::shadowing_names())},
                                            {"cone-peaks", secchi::usage_names(secchi::cone_peak_names())},
                                            {"tracers", secchi::usage_names(secchi::tracer_names())},
                                            {"absorptions", secchi::usage_names(secchi::absorption_names())}});
@@ -155,7 +159,7 @@ inline secchi::CommandLine command_line(int argc, char** argv) {
                                {"phase", "albedo", "sun-zenith", "sky", "source", "direct", "diffuse", "rayleigh-tau",
                                 "aerosol-tau", "aerosol-g", "aerosol-albedo", "aerosol-scale-height",
                                 "water-index", "wind", "slope-variance", "slopes",
-                                "wind-azimuth", "facets", "bottom-depth", "bottom-albedo",
+                                "wind-azimuth", "facets", "shadowing", "bottom-depth", "bottom-albedo",
                                 "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                 "store", "radius", "steps", "omega", "ray-transmittance", "cone-peak", "ray-grid", "section-width",
                                 "tracer", "shards", "json"});

@@ -64,7 +64,7 @@ void slab_options(int argc, char** argv) {
     (void)secchi::detail::source_of(cfg);
     (void)secchi::Slab(cfg.section_width, cfg.bottom);
     const double n = cfg.water_index.value_or(1.34);
-    if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0) (void)secchi::WindBlownSurface(cfg.slopes, n, cfg.facets);
+    if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0) (void)secchi::WindBlownSurface(cfg.slopes, n, cfg.facets, 1.0, cfg.shadowing);
     else (void)secchi::FlatSurface(n);
 }
 

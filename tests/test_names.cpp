@@ -197,10 +197,11 @@ TEST_CASE("store registry: names, usage and errors") {
                       Contains("must be kdtree, voi, voi-grid, nanoflann or brute-force"));
 }
 
-TEST_CASE("tracer, source, facet, cone-peak and absorption registries: names, usage and errors") {
+TEST_CASE("tracer, source, facet, shadowing, cone-peak and absorption registries: names, usage and errors") {
     check_named_values(tracer_names(), parse_tracer, "tracer");
     check_named_values(source_names(), parse_source, "source");
     check_named_values(facet_sampling_names(), parse_facets, "facets");
+    check_named_values(shadowing_names(), parse_shadowing, "shadowing");
     check_named_values(cone_peak_names(), parse_cone_peak, "cone peak");
     check_named_values(absorption_names(), parse_absorption, "absorption");
     CHECK(usage_names(tracer_names()) == "photon|lanes|lanes-float");

@@ -1,6 +1,8 @@
 // The second pass over a 3-D scene (estimate/scene_radiance.hpp): black objects end a ray with
 // the path to them only; a bottom in bins adds A Ed_bin / pi of the bin the ray meets (across the
-// section's periodic copies); everything else is the wrapped RadianceEstimator's, term for term.
+// section's periodic copies); a grey object or the bottom with a surface map adds A E / pi of the
+// map's irradiance at the point met; everything else is the wrapped RadianceEstimator's, term
+// for term.
 // On a map of random photons that carry flux, each against the wrapped estimator's own answer
 // for the same path, exactly; and what is refused.
 #include <catch2/catch.hpp>
@@ -127,9 +129,61 @@ TEST_CASE("Scene radiance: rendered through render(); refused: grey objects met,
     grey.add(AxisBox(vec3(0.25, 0.25, 2.0), vec3(0.75, 0.75, 2.5)), ObjectMaterial::lambertian(0.3));
     const SceneRadianceEstimator grey_scene(est, grey);
     CHECK_THROWS_WITH(grey_scene.radiance(Ray{vec3(0.5, 0.5, 1.0), vec3(0.0, 0.0, 1.0), INFINITY}),
-                      Contains("object albedo = 0.3") && Contains("not modelled"));
+                      Contains("object albedo = 0.3") && Contains("needs a surface photon map"));
     CHECK_NOTHROW(grey_scene.radiance(Ray{vec3(0.1, 0.1, 1.0), vec3(0.0, 0.0, 1.0), INFINITY}));  // beside it
     CHECK_THROWS_WITH(scene.radiance(Ray{vec3(0.5, 0.5, -1.0), vec3(0.0, 0.0, 1.0), INFINITY}), Contains("ray origin depth"));
     std::vector<Estimate> five(5, Estimate{0.1, 0.0});
     CHECK_THROWS_WITH(SceneRadianceEstimator(est, NoGeometry{}, five), Contains("bottom Ed bins = 5"));
+}
+
+TEST_CASE("Scene radiance: a grey object and the bottom with a surface map add A E / pi of the map's irradiance there") {
+    const Map map = lit_map();
+    const Estimator est = estimator(map);
+    // A surface map of random arrivals on the box's top (normal -z), on its sides and on the
+    // bottom, 4 batches: the estimator's answer is checked against SurfaceIrradiance's own.
+    std::vector<SurfacePhoton> arrivals;
+    PhotonRng rng(13, 0);
+    for (int i = 0; i < 40000; ++i) {
+        const double u = rng.uniform(), v = rng.uniform();
+        const auto batch = static_cast<std::uint8_t>(i % 4);
+        if (i % 3 == 0) arrivals.push_back({{0.25 + 0.5 * u, 0.25 + 0.5 * v, 2.0}, {0.0, 0.0, -1.0}, 0.5 + u, 0, batch});
+        else if (i % 3 == 1) arrivals.push_back({{0.25, 0.25 + 0.5 * u, 2.0 + 0.5 * v}, {-1.0, 0.0, 0.0}, 1.0, 0, batch});
+        else arrivals.push_back({{u, v, bottom_depth}, {0.0, 0.0, -1.0}, 0.2 + v, SurfacePhoton::bottom, batch});
+    }
+    const auto surface = std::make_shared<const SurfaceIrradiance>(arrivals, 1e-4, 4, width, Radius(0.05));
+    Shapes grey;
+    grey.add(AxisBox(vec3(0.25, 0.25, 2.0), vec3(0.75, 0.75, 2.5)), ObjectMaterial::lambertian(0.3));
+    const SceneRadianceEstimator scene(est, grey, {}, surface);
+    int on_box = 0, on_bottom = 0;
+    for (int i = 0; i < 300; ++i) {
+        const double theta = 60.0 * deg * rng.uniform(), phi = two_pi * rng.uniform();
+        const vec3 d{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+        const vec3 o{2.0 * rng.uniform() - 0.5, 2.0 * rng.uniform() - 0.5, 1.5 * rng.uniform()};
+        const Ray ray{o, d, INFINITY};
+        const Estimate got = scene.radiance(ray);
+        const auto hit = periodic_closest_hit(grey, width, o, d, INFINITY);
+        const double t_b = (bottom_depth - o.z) / d.z;
+        INFO("ray " << i);
+        if (hit && hit->t < t_b) {
+            ++on_box;
+            const Estimate e = surface->irradiance(hit->point, hit->normal);
+            const Estimate path = est.radiance(Ray{o, d, hit->t});
+            const double per_e = 0.3 / pi * est.transmittance(Ray{o, d, hit->t});
+            CHECK(got.value == Approx(path.value + per_e * e.value).epsilon(1e-12));
+            CHECK(got.se == Approx(std::hypot(path.se, per_e * e.se)).epsilon(1e-12));
+        } else {
+            ++on_bottom;
+            const vec3 p = o + t_b * d;
+            const Estimate e = surface->irradiance(p, vec3(0.0, 0.0, -1.0));
+            const Estimate path = est.radiance(Ray{o, d, std::nextafter(t_b, 0.0)});
+            const double per_e = albedo / pi * est.transmittance(Ray{o, d, t_b});
+            CHECK(got.value == Approx(path.value + per_e * e.value).epsilon(1e-12));
+        }
+    }
+    CHECK(on_box > 30);
+    CHECK(on_bottom > 30);
+    // The map's bands must be one; a black object needs no map and adds nothing.
+    const SceneRadianceEstimator black(est, black_box(), {}, surface);
+    CHECK(black.radiance(Ray{vec3(0.5, 0.5, 1.0), vec3(0.0, 0.0, 1.0), INFINITY}).value ==
+          est.radiance(Ray{vec3(0.5, 0.5, 1.0), vec3(0.0, 0.0, 1.0), 1.0}).value);
 }

@@ -30,14 +30,14 @@ TransportResult<CompactRecord> run(const Phase& phase, double w0, TransportSetti
 }
 /// HG water of albedo w0 over a Lambertian bottom under a wind-blown surface (problem 5's
 /// sigma^2 = 0.04) and a sun at 80 deg, whose photons meet tilted facets and re-cross the surface.
-TransportResult<CompactRecord> run_wind_blown(TransportSettings s) {
+TransportResult<CompactRecord> run_wind_blown(TransportSettings s, Shadowing shadowing = Shadowing::none) {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
     const auto medium = Water::from_albedo(1.0, 0.5, HenyeyGreensteinPhase(0.7));
     const Slab slab(1.0, Bottom::lambertian_at(6.0, 0.4), 30.0);
-    return PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, WindBlownSurface(0.04),
-                                                                CollimatedSun(80.0), s)
-        .run();
+    const WindBlownSurface surface(FacetSlopes::isotropic(0.04), 1.34, FacetSampling::projected_area, 1.0, shadowing);
+    return PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, CollimatedSun(80.0), s).run();
 }
+TransportResult<CompactRecord> run_wind_blown_hiding(TransportSettings s) { return run_wind_blown(s, Shadowing::smith); }
 bool within_se(const Estimate& e, double exact, double k = 4.0) {
     INFO("estimate " << e.value << " +- " << e.se << " vs exact " << exact);
     return std::abs(e.value - exact) <= k * e.se && e.se > 0;
@@ -132,11 +132,52 @@ TEST_CASE("Under a wind-blown surface the absorption modes agree within their st
     TransportSettings s;
     s.photons = 200000;
     s.depths = {0.0, 1.0, 4.0};
-    check_absorption_modes_agree(s, run_wind_blown);
+    check_absorption_modes_agree(s, [](const TransportSettings& settings) { return run_wind_blown(settings); });
 }
 
 TEST_CASE("Under a wind-blown surface results are bit-identical for 1 and 2 threads", "[threads]") {
-    testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, run_wind_blown);
+    testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, [](TransportSettings s) { return run_wind_blown(s); });
+    testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, run_wind_blown_hiding);
+}
+
+TEST_CASE("Waves hiding the light leaving a wind-blown surface: the ledger closes, modes agree, less of a grazing sun is reflected") {
+    // Smith's hiding (Shadowing::smith): light leaving a facet meets the surface again with
+    // probability 1 - G1. For a sun at 80 deg, about a quarter of whose light is reflected at
+    // grazing angles (Lambda of order 0.05-0.5 there), part of that light is sent back into the
+    // surface and partly enters: Eu(0+) must fall below the run without hiding by more than 4
+    // combined SE, and the energy ledger must still close.
+    TransportSettings s;
+    s.photons = 200000;
+    s.depths = {0.0, 1.0, 4.0};
+    check_absorption_modes_agree(s, run_wind_blown_hiding);
+    s.absorption = AbsorptionMode::analog;
+    const auto off = run_wind_blown(s), on = run_wind_blown(s, Shadowing::smith);
+    INFO("Eu(0+) " << on.above.eu.value << " +- " << on.above.eu.se << " with hiding, " << off.above.eu.value << " +- "
+                   << off.above.eu.se << " without");
+    CHECK(off.above.eu.value - on.above.eu.value > 4.0 * std::hypot(off.above.eu.se, on.above.eu.se));
+    CHECK(std::abs(on.ledger.imbalance()) <= 1e-9 * on.ledger.incident);
+    CHECK(on.ledger.truncated == 0.0);
+}
+
+TEST_CASE("An index-matched wind-blown surface with hiding is no surface at all: its light goes straight on") {
+    // n_water = 1: every facet transmits without reflection or refraction, so however often the
+    // waves hide it, light keeps its direction and weight: the irradiances are those of a flat
+    // surface of index 1 (within 4 combined SE; different seeds, the walks draw differently).
+    using Water = HomogeneousWater<HenyeyGreensteinPhase>;
+    const auto medium = Water::from_albedo(1.0, 0.5, HenyeyGreensteinPhase(0.7));
+    const Slab slab(1.0, Bottom::lambertian_at(6.0, 0.4), 30.0);
+    TransportSettings s;
+    s.photons = 200000;
+    s.depths = {0.0, 1.0, 4.0};
+    const auto flat = PhotonTracer<Water, CompactRecord>(medium, slab, FlatSurface(1.0), CollimatedSun(80.0), s).run();
+    s.seed = 2;
+    const WindBlownSurface waves(FacetSlopes::isotropic(0.04), 1.0, FacetSampling::projected_area, 1.0, Shadowing::smith);
+    const auto hiding = PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, waves, CollimatedSun(80.0), s).run();
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (const IrradianceKind q : {Ed, Eu, Eod, Eou})
+            testing::check_agree(flat.irradiance[i][q], hiding.irradiance[i][q], "depth " + std::to_string(s.depths[i]));
+    testing::check_agree(flat.above.eu, hiding.above.eu, "Eu(0+)");
+    CHECK(std::abs(hiding.ledger.imbalance()) <= 1e-9 * hiding.ledger.incident);
 }
 
 namespace {

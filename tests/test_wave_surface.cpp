@@ -1,9 +1,11 @@
-// The sinusoidal surface with geometry (scene/wave_surface.hpp) and the first pass through it
-// (transport/tracer.hpp): its ray crossings against a brute-force search over random rays,
+// The sinusoidal surface with geometry (scene/wave_surface.hpp), sums of sinusoids
+// (scene/wave_sum.hpp) and the first pass through them (transport/tracer.hpp): their ray
+// crossings against a brute-force search over random rays,
 // reflection and refraction at the local normal against Snell's and Fresnel's laws, the caustic
 // pattern on a flat bottom under a vertical sun against the analytic refraction geometry (the
 // manual's validation case, 7.4: amplitude 0.4 m, wavelength 5 m), the flat limit (amplitude
-// 0) against the flat surface, and the energy ledger.
+// 0) against the flat surface, and the energy ledger; a sum of two equal collinear terms is the
+// single sinusoid photon by photon, and crossed waves' caustics match their refraction geometry.
 #include <catch2/catch.hpp>
 
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -11,9 +13,11 @@
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/scene/shapes.hpp"
 #include "secchi/scene/wave_surface.hpp"
+#include "secchi/scene/wave_sum.hpp"
 #include "secchi/transport/tracer.hpp"
 #include "random_draws.hpp"
 #include "transport_checks.hpp"
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -22,13 +26,15 @@ using namespace secchi;
 
 static_assert(GeometricSurface<SinusoidalWave> && !AirWaterSurface<SinusoidalWave>);
 static_assert(SurfacePolicy<SinusoidalWave> && SurfacePolicy<FlatSurface>);
+static_assert(GeometricSurface<WaveSum> && !AirWaterSurface<WaveSum>);
 
 namespace {
 using testing::Rand;
 
 /// The first t in (0, t_max] where the ray reaches the surface, by sampling g every `step`
 /// and bisecting the first sign change: the brute-force answer.
-std::optional<double> brute_crossing(const SinusoidalWave& w, const vec3& o, const vec3& d, Side side, double t_max,
+template <class Wave>
+std::optional<double> brute_crossing(const Wave& w, const vec3& o, const vec3& d, Side side, double t_max,
                                      double step) {
     const double sign = side == Side::water ? 1.0 : -1.0;
     const auto g = [&](double t) {
@@ -44,6 +50,18 @@ std::optional<double> brute_crossing(const SinusoidalWave& w, const vec3& o, con
     }
     return std::nullopt;
 }
+
+/// A random ray (origin, direction) starting up to max_off m off the surface on `side` (never
+/// on it), from a point in [-10, 10]^2; nearly horizontal (grazing) when `grazing`.
+template <class Wave>
+std::pair<vec3, vec3> ray_beside(const Wave& w, Rand& r, Side side, double max_off, bool grazing) {
+    const double x = r.in(-10.0, 10.0), y = r.in(-10.0, 10.0), zs = w.surface_depth(x, y);
+    const double off = r.in(1e-6, max_off);
+    const vec3 o{x, y, side == Side::water ? zs + off : zs - off};
+    vec3 d = r.direction();
+    if (grazing) d = glm::normalize(vec3{d.x, d.y, 1e-4 * d.z});
+    return {o, d};
+}
 }  // namespace
 
 TEST_CASE("SinusoidalWave: its crossings are the brute-force search's, from the water and from the air") {
@@ -51,13 +69,8 @@ TEST_CASE("SinusoidalWave: its crossings are the brute-force search's, from the 
     int crossings = 0, misses = 0;
     for (int i = 0; i < 3000; ++i) {
         const SinusoidalWave w(r.in(0.0, 0.6), r.in(1.0, 8.0), r.in(-3.0, 3.0), r.in(-3.0, 3.0));
-        const double x = r.in(-10.0, 10.0), y = r.in(-10.0, 10.0), zs = w.surface_depth(x, y);
         const Side side = i % 2 ? Side::water : Side::air;
-        // A start up to 1 m off the surface on its side (never on it).
-        const double off = r.in(1e-6, 1.0);
-        const vec3 o{x, y, side == Side::water ? zs + off : zs - off};
-        vec3 d = r.direction();
-        if (i % 7 == 0) d = glm::normalize(vec3{d.x, d.y, 1e-4 * d.z});  // grazing, nearly horizontal
+        const auto [o, d] = ray_beside(w, r, side, 1.0, i % 7 == 0);
         const double t_max = r.in(0.1, 30.0);
         const auto got = w.first_crossing(o, d, side, t_max);
         const auto want = brute_crossing(w, o, d, side, t_max, 1e-3);
@@ -325,4 +338,243 @@ TEST_CASE("Through the wave with scattering the ledger closes, for 1 and 2 threa
     CHECK_THROWS_WITH(WithObjects(water, slab, manual_wave(), sun, s, high),
                       Catch::Contains("object bounds' top depth (m) = 0.3") && Catch::Contains("troughs"));
     CHECK_NOTHROW(WithObjects(water, slab, manual_wave(), sun, s, low));
+}
+
+namespace {
+/// A random sum of 1-4 terms (amplitudes up to 0.3 m, wavelengths 0.5-8 m, any direction).
+WaveSum random_sum(Rand& r) {
+    std::vector<Sinusoid> terms;
+    const int n = 1 + static_cast<int>(4.0 * r()) % 4;
+    for (int i = 0; i < n; ++i) terms.emplace_back(r.in(0.0, 0.3), r.in(0.5, 8.0), r.in(-3.0, 3.0), r.in(-3.0, 3.0));
+    return WaveSum(std::move(terms));
+}
+}  // namespace
+
+TEST_CASE("WaveSum: its crossings are the brute-force search's; one term crosses where SinusoidalWave does") {
+    // The brute force samples g every 2e-4 m and bisects the first sign change; it misses a
+    // crossing pair closer than its step (a grazing pass through a crest), which the bounded
+    // search finds: such a crossing is accepted if it is on the surface and before the brute
+    // force's. Otherwise the two agree to 1e-9 m (the brute force's bisection from its samples).
+    Rand r(31);
+    int crossings = 0, misses = 0, finer = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const WaveSum w = random_sum(r);
+        const Side side = i % 2 ? Side::water : Side::air;
+        const auto [o, d] = ray_beside(w, r, side, 0.5, i % 7 == 0);
+        const double t_max = r.in(0.1, 8.0);
+        const auto got = w.first_crossing(o, d, side, t_max);
+        const auto want = brute_crossing(w, o, d, side, t_max, 2e-4);
+        INFO("ray " << i << ": " << w.terms().size() << " terms");
+        if (want) {
+            REQUIRE(got);
+            CHECK(*got <= *want + 1e-9);
+        }
+        if (got) {
+            ++crossings;
+            const vec3 p = o + d * *got;
+            CHECK(std::abs(p.z - w.surface_depth(p.x, p.y)) < 1e-9);
+            CHECK(*got <= t_max);
+            if (!want || *got < *want - 1e-9) ++finer;
+            else CHECK(*got == Approx(*want).margin(1e-9));
+        } else {
+            ++misses;
+        }
+    }
+    INFO("crossings " << crossings << ", misses " << misses << ", found between the brute force's samples " << finer);
+    CHECK(crossings > 1000);
+    CHECK(misses > 300);
+    CHECK(finer <= 30);  // 1 %: grazing passes only
+
+    // One term: SinusoidalWave's surface, crossed at the same points (both bisect to the last bit).
+    for (int i = 0; i < 3000; ++i) {
+        const double a = r.in(0.0, 0.6), l = r.in(1.0, 8.0), dir = r.in(-3.0, 3.0), ph = r.in(-3.0, 3.0);
+        const SinusoidalWave one(a, l, dir, ph);
+        const WaveSum sum({Sinusoid(a, l, dir, ph)});
+        const double x = r.in(-10.0, 10.0), y = r.in(-10.0, 10.0);
+        const Side side = i % 2 ? Side::water : Side::air;
+        const double off = r.in(1e-6, 1.0);
+        const vec3 o{x, y, one.surface_depth(x, y) + (side == Side::water ? off : -off)};
+        const vec3 d = r.direction();
+        const double t_max = r.in(0.1, 30.0);
+        const auto a1 = one.first_crossing(o, d, side, t_max), a2 = sum.first_crossing(o, d, side, t_max);
+        INFO("ray " << i);
+        REQUIRE(a1.has_value() == a2.has_value());
+        if (a1) CHECK(*a2 == Approx(*a1).margin(1e-12));
+        CHECK(glm::length(one.normal_into_water(x, y) - sum.normal_into_water(x, y)) < 1e-15);
+    }
+}
+
+TEST_CASE("WaveSum: flat when every amplitude is 0; level rays; bad terms and sections refused") {
+    const WaveSum flat({Sinusoid(0.0, 3.0), Sinusoid(0.0, 1.0, 1.0)});
+    Rand r(32);
+    for (int i = 0; i < 1000; ++i) {
+        const vec3 d = r.direction();
+        const vec3 o{r.in(-5.0, 5.0), r.in(-5.0, 5.0), d.z > 0.0 ? -r.in(0.01, 2.0) : r.in(0.01, 2.0)};
+        const Side side = o.z > 0.0 ? Side::water : Side::air;
+        const auto t = flat.first_crossing(o, d, side, INFINITY);
+        REQUIRE(t);
+        CHECK(*t == Approx(-o.z / d.z).margin(1e-12));
+        CHECK_FALSE(flat.first_crossing(o, d, side, 0.99 * -o.z / d.z));
+        CHECK(flat.normal_into_water(o.x, o.y) == vec3(0.0, 0.0, 1.0));
+    }
+    // A level ray in the water between the troughs of two crossed waves meets a crest rising
+    // through its depth; one below every trough (the sum of the amplitudes) meets nothing.
+    const WaveSum crossed({Sinusoid(0.3, 5.0), Sinusoid(0.2, 2.5, std::numbers::pi / 2)});
+    CHECK(crossed.trough_depth() == Approx(0.5));
+    CHECK(crossed.first_crossing({0.0, 0.3, 0.1}, glm::normalize(vec3{1.0, 0.3, 0.0}), Side::water, INFINITY));
+    CHECK_FALSE(crossed.first_crossing({0.0, 0.3, 0.51}, glm::normalize(vec3{1.0, 0.3, 0.0}), Side::water, INFINITY));
+    CHECK(crossed.periodic_in(5.0));
+    CHECK_FALSE(crossed.periodic_in(2.5));  // the first term needs 5 m
+    CHECK_THROWS_WITH(WaveSum({}), Catch::Contains("wave sum terms"));
+    CHECK_THROWS_WITH(WaveSum({Sinusoid(0.1, 1.0)}, 0.5), Catch::Contains("water index"));
+    CHECK_THROWS_WITH(Sinusoid(-0.1, 1.0), Catch::Contains("wave amplitude"));
+    TransportSettings s;
+    s.photons = 1000;
+    s.depths = {0.45};  // above the sum's lowest possible trough
+    const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
+    using T = WaveTracer<HgWater, WaveSum>;
+    const SunAndSky sun(CollimatedSun(0.0));
+    CHECK_THROWS_WITH(T(water, Slab(5.0, Bottom::lambertian_at(6.0, 0.5)), crossed, sun, s), Catch::Contains("detector depth"));
+    s.depths = {1.0};
+    CHECK_THROWS_WITH(T(water, Slab(2.5, Bottom::lambertian_at(6.0, 0.5)), crossed, sun, s), Catch::Contains("section width"));
+    CHECK_NOTHROW(T(water, Slab(5.0, Bottom::lambertian_at(6.0, 0.5)), crossed, sun, s));
+}
+
+TEST_CASE("WaveSum: two equal collinear terms are SinusoidalWave of their summed amplitude, photon by photon") {
+    // A(cos u) + A'(cos u) = (A + A') cos u: the same surface, so the first pass draws the same
+    // numbers for every photon and takes the same paths; the crossings differ only in the
+    // last bits of their bisections, so every output agrees to 1e-9 relative (a Fresnel choice
+    // or a bin flipped by such a difference would show as a far larger one).
+    const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
+    const Slab slab(wavelength, Bottom::lambertian_at(6.0, 0.5));
+    const SunAndSky sky(CollimatedSun(40.0 * deg), UniformSky(0.5));
+    TransportSettings s;
+    s.photons = 40'000;
+    s.map_photons = 0;
+    s.depths = {0.5, 3.0};
+    s.bottom_bins = 8;
+    const auto one = WaveTracer<HgWater, SinusoidalWave>(water, slab, manual_wave(), sky, s).run();
+    const WaveSum halves({Sinusoid(0.5 * amplitude, wavelength, 0.0, std::numbers::pi),
+                          Sinusoid(0.5 * amplitude, wavelength, 0.0, std::numbers::pi)},
+                         n_water);
+    const auto two = WaveTracer<HgWater, WaveSum>(water, slab, halves, sky, s).run();
+    for (std::size_t i = 0; i < 2; ++i)
+        for (const IrradianceKind q : {Ed, Eu, Eod, Eou}) {
+            INFO("depth " << i << ", quantity " << static_cast<int>(q));
+            CHECK(two.irradiance[i][q].value == Approx(one.irradiance[i][q].value).epsilon(1e-9));
+        }
+    for (std::size_t k = 0; k < one.bottom_ed_bins.size(); ++k)
+        CHECK(two.bottom_ed_bins[k].value == Approx(one.bottom_ed_bins[k].value).epsilon(1e-9));
+    CHECK(two.ledger.surface_reflected == Approx(one.ledger.surface_reflected).epsilon(1e-9));
+    CHECK(two.ledger.absorbed == Approx(one.ledger.absorbed).epsilon(1e-9));
+}
+
+namespace {
+/// Crossed waves: 0.25 m, 5 m along x (crest at x = 2.5 m) and 0.1 m, 2.5 m along y, in a 5 m
+/// section. The steepest facet tilts 21.9 deg (|grad eta| <= 0.314 + 0.251): below 30 deg, so
+/// light reflected up from a vertical sun (2 theta from the zenith) climbs faster than any
+/// facet rises and never meets the surface again, and refracted light never leaves the water.
+WaveSum crossed_waves() {
+    return WaveSum({Sinusoid(0.25, 5.0, 0.0, std::numbers::pi), Sinusoid(0.1, 2.5, std::numbers::pi / 2, 0.0)}, n_water);
+}
+
+/// The analytic bottom irradiance under a vertical sun of unit irradiance, water of attenuation
+/// c without scattering, in n bins along x (along_x) or y, averaged over the other axis: the ray
+/// entering at (x, y) meets the surface at depth -eta(x, y), is refracted at the normal there
+/// (Snell, facet_hit) and goes straight to the bottom at depth D with weight
+/// (1 - R) exp(-c (D + eta) / t_z). Midpoint rule over `fine` entry points along the profile's
+/// axis (a caustic squeezes many into few bins: the fine axis keeps each bin's count exact to
+/// about 0.5 %) and `coarse` along the other; each bin reads n times the weight landing in it
+/// per incident photon.
+std::vector<double> analytic_profile(const WaveSum& wave, double bottom, double c, unsigned n, double width, bool along_x,
+                                     unsigned fine, unsigned coarse) {
+    std::vector<double> e(n, 0.0);
+    for (unsigned i = 0; i < fine; ++i)
+        for (unsigned j = 0; j < coarse; ++j) {
+            const double u = width * (i + 0.5) / fine, v = width * (j + 0.5) / coarse;
+            const double x = along_x ? u : v, y = along_x ? v : u;
+            const vec3 p{x, y, wave.surface_depth(x, y)};
+            const SurfaceHit h = wave.hit_at(p, vec3(0.0, 0.0, 1.0), Side::air);
+            const vec3& t = h.transmitted;
+            const double path = (bottom - p.z) / t.z;
+            const double landing = along_x ? x + path * t.x : y + path * t.y;
+            e[std::min(n - 1, static_cast<unsigned>(periodic_wrap(landing, width) / width * n))] +=
+                (1.0 - h.reflectance) * std::exp(-c * path);
+        }
+    for (double& v : e) v *= static_cast<double>(n) / (static_cast<double>(fine) * coarse);
+    return e;
+}
+
+/// Whether every maximum of `a` has one of `b` within one bin (cyclically).
+bool each_near(const std::vector<unsigned>& a, const std::vector<unsigned>& b, unsigned n) {
+    return std::all_of(a.begin(), a.end(), [&](unsigned i) {
+        return std::any_of(b.begin(), b.end(), [&](unsigned j) {
+            const unsigned d = i > j ? i - j : j - i;
+            return std::min(d, n - d) <= 1;
+        });
+    });
+}
+}  // namespace
+
+TEST_CASE("Caustics of crossed waves on a flat bottom match their refraction geometry") {
+    // As the manual's case above, now in two dimensions: no scattering, c = 0.05 1/m, vertical
+    // sun, the bottom at 6.2 m (the second term's paraxial focus, n R / (n - 1), R = 1 / (A k^2)
+    // = 1.58 m). The bottom's Ed in 64 x 64 bins, averaged over y and over x: each of the 2 x 64
+    // profile bins within 4 SE of the analytic profile (SE as above), and every maximum of a
+    // profile (larger than its +-2 neighbours and 1.3 x the mean) within one bin of one of the
+    // other's (a caustic on a bin edge may show as a maximum on either side of it).
+    const double c = 0.05, bottom = 6.2, width = 5.0;
+    const IsoWater water = IsoWater::from_albedo(c, 0.0, IsotropicPhase{});
+    constexpr unsigned n = 64;
+    TransportSettings s;
+    s.photons = 1'000'000;
+    s.map_photons = 0;
+    s.depths = {1.0};
+    s.bottom_bins = n;
+    s.absorption = AbsorptionMode::continuous;
+    s.roulette_weight = 0.0;
+    const auto r = WaveTracer<IsoWater, WaveSum>(water, Slab(width, Bottom::transparent_at(bottom)), crossed_waves(),
+                                                 SunAndSky(CollimatedSun(0.0)), s)
+                       .run();
+    for (const bool along_x : {true, false}) {
+        std::vector<double> got(n, 0.0), se2(n, 0.0);
+        for (unsigned iy = 0; iy < n; ++iy)
+            for (unsigned ix = 0; ix < n; ++ix) {
+                const unsigned j = along_x ? ix : iy, k = iy * n + ix;
+                got[j] += r.bottom_ed_bins[k].value / n;
+                se2[j] += std::pow(r.bottom_ed_bins[k].se / n, 2);
+            }
+        const std::vector<double> want = analytic_profile(crossed_waves(), bottom, c, n, width, along_x, 20'000, 200);
+        for (unsigned j = 0; j < n; ++j) {
+            INFO((along_x ? "x" : "y") << " bin " << j << ": " << got[j] << " +- " << std::sqrt(se2[j]) << ", analytic "
+                                       << want[j]);
+            CHECK(std::abs(got[j] - want[j]) <= 4.0 * std::sqrt(se2[j]));
+        }
+        const auto pg = peaks(got, 1.3), pw = peaks(want, 1.3);
+        INFO((along_x ? "x" : "y") << ": " << pg.size() << " maxima, analytic " << pw.size());
+        REQUIRE(!pw.empty());
+        CHECK(each_near(pw, pg, n));
+        CHECK(each_near(pg, pw, n));
+    }
+    CHECK(std::abs(r.ledger.imbalance()) <= 1e-9 * r.ledger.incident);
+    CHECK(r.ledger.truncated == 0.0);
+}
+
+TEST_CASE("Through crossed waves with scattering the ledger closes, for 1 and 2 threads alike") {
+    const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
+    const Slab slab(5.0, Bottom::lambertian_at(6.0, 0.5));
+    const SunAndSky sky(CollimatedSun(60.0 * deg), UniformSky(0.5));
+    TransportSettings s;
+    s.photons = 40'000;
+    s.map_photons = 4'000;
+    s.depths = {0.5, 3.0};
+    s.roulette_weight = 0.0;
+    s.block_size = 1000;
+    const auto one = WaveTracer<HgWater, WaveSum>(water, slab, crossed_waves(), sky, s).run();
+    INFO("imbalance " << one.ledger.imbalance());
+    CHECK(std::abs(one.ledger.imbalance()) <= 1e-9 * one.ledger.incident);
+    CHECK(one.ledger.truncated == 0.0);
+    s.threads = 2;
+    const auto two = WaveTracer<HgWater, WaveSum>(water, slab, crossed_waves(), sky, s).run();
+    testing::require_identical(one, two);
 }

@@ -98,6 +98,7 @@ CASES = [
     ("slab", "--absorption none", ["absorption", "none"], []),
     ("slab", "--source moon", ["source", "moon"], []),
     ("slab", "--facets weighted", ["facets", "weighted"], []),
+    ("slab", "--shadowing partial", ["shadowing", "partial"], []),
     ("slab", "--cone-peak sharp", ["cone", "sharp"], []),
     ("slab", "--source atmosphere --aerosol-g 1", ["aerosol", "1"], []),
     ("slab", "--source atmosphere --aerosol-albedo 1.5", ["aerosol", "1.5"], []),

@@ -79,6 +79,16 @@ SECCHI_KERNEL bool any_lane(const Mask& m) {
     else return any_of(m);
 }
 
+/// x wrapped into [0, W) with period W (a section's periodic copies, scene/slab.hpp):
+/// x - W floor(x / W), and 0 where rounding gives W itself (x a hair below a multiple of W).
+/// For a double, or a SIMD vector of doubles or floats (photons in lanes).
+template <class Real>
+SECCHI_KERNEL Real periodic_wrap(Real x, scalar_t<Real> width) {
+    using std::floor;
+    const Real w = x - width * floor(x / width);
+    return select(w < width, w, Real(scalar_t<Real>(0)));
+}
+
 namespace detail {
 /// x rounded to the nearest integer (ties to even), for |x| < 2^51 (doubles; 2^22 for floats):
 /// adding 1.5 2^52 (1.5 2^23) leaves no fraction bits, and subtracting it again is exact.

@@ -198,6 +198,13 @@ public:
         return {v, e * path_.optics(band).transmittance(Ray{point, -v, t}, t)};
     }
 
+    /// The distance along a ray in the water to the bottom: (D - z) / d_z looking down with a
+    /// bottom at depth D, else infinite.
+    [[nodiscard]] double bottom_distance(const Ray& ray) const {
+        const double bottom = map().bottom().depth();  // +inf: none
+        return ray.direction.z > 0.0 && std::isfinite(bottom) ? (bottom - ray.origin.z) / ray.direction.z : INFINITY;
+    }
+
 private:
     /// Where a ray from a point in the water meets the water's boundary: the surface (looking
     /// up), the bottom (looking down, if there is one), or nothing (t infinite).
@@ -208,10 +215,9 @@ private:
     };
     Boundary boundary_of(const Ray& ray) const {
         require_in_water(ray.origin.z);
-        const double bottom = map().bottom().depth();  // +inf: none
         if (ray.direction.z < 0.0) return {End::surface, ray.origin.z / -ray.direction.z};
-        if (ray.direction.z > 0.0 && std::isfinite(bottom)) return {End::bottom, (bottom - ray.origin.z) / ray.direction.z};
-        return {End::none, INFINITY};
+        const double t = bottom_distance(ray);
+        return {std::isfinite(t) ? End::bottom : End::none, t};
     }
 
     /// A direction crossing the surface and the radiance factor (1 - R) (n_from / n_to)^2.

@@ -65,8 +65,7 @@ public:
     /// A at the point (x, y) (any x, y: the map repeats with period W).
     [[nodiscard]] double at(double x, double y) const {
         const auto cell = [this](double v, unsigned n) {
-            const double w = v - width_ * std::floor(v / width_);  // in [0, W], W itself by rounding
-            return std::min(n - 1, static_cast<unsigned>(w / width_ * n));
+            return std::min(n - 1, static_cast<unsigned>(periodic_wrap(v, width_) / width_ * n));
         };
         return albedo_[static_cast<std::size_t>(cell(y, ny_)) * nx_ + cell(x, nx_)];
     }
@@ -165,11 +164,7 @@ std::optional<ObjectHit> periodic_closest_hit(const G& g, double width, const ve
         t_hi = std::min(t_hi, std::max(ta, tb));
         if (t_lo > t_hi) return std::nullopt;
     }
-    auto wrap = [width](double x) {
-        const double w = x - width * std::floor(x / width);
-        return w < width ? w : 0.0;
-    };
-    const vec3 start{wrap(o.x), wrap(o.y), o.z};  // in cell (0, 0)
+    const vec3 start{periodic_wrap(o.x, width), periodic_wrap(o.y, width), o.z};  // in cell (0, 0)
     const int step_x = d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0), step_y = d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0);
     // The distances to the next cell boundary in x and y, and between boundaries.
     double next_x = step_x > 0 ? (width - start.x) / d.x : (step_x < 0 ? -start.x / d.x : INFINITY);

@@ -40,11 +40,7 @@ public:
     /// For a double, or a SIMD vector of doubles or floats (photons in lanes).
     template <class Real>
     [[nodiscard]] Real wrap(Real x) const {
-        using std::floor;
-        using T = scalar_t<Real>;
-        const T width = T(width_);
-        const Real w = x - width * floor(x / width);
-        return select(w < width, w, Real(T(0)));
+        return periodic_wrap(x, scalar_t<Real>(width_));
     }
 
 private:

@@ -6,8 +6,9 @@
 // lets the photon meet the surface again while its direction points back across it (a
 // wind-blown surface's tilted facets can send light down into the air side or up into the
 // water side). Models: FlatSurface (flat_surface.hpp), WindBlownSurface (wind_blown_surface.hpp).
-// A surface with geometry (GeometricSurface: SinusoidalWave, wave_surface.hpp) is met where a
-// photon's path crosses it, at its local normal, instead of on the mean plane.
+// A surface with geometry (GeometricSurface: SinusoidalWave, wave_surface.hpp; WaveSum,
+// wave_sum.hpp) is met where a photon's path crosses it, at its local normal, instead of on the
+// mean plane.
 #include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/rng.hpp"

@@ -17,6 +17,22 @@
 // photons stay unweighted) and the estimates are those of the weighting.
 // FacetSampling::redraw is the manual's choice instead (7.6.5: draw from p, draw again while
 // the facet faces away; no projected area), which it reports beside M93's.
+//
+// Shadowing and hiding (optional; M93's problem 5 ignores them): Smith's (1967) model of a
+// random surface of uncorrelated heights, as in microfacet theory (Walter et al. 2007, eq.
+// 18-27; Heitz 2014, "Understanding the masking-shadowing function"). Light leaving the surface
+// along a direction d (away from the mean plane, on either side) clears the other waves with
+// probability
+//     G1(d) = 1 / (1 + Lambda(nu)),   Lambda(nu) = (exp(-nu^2) / (nu sqrt(pi)) - erfc(nu)) / 2,
+//     nu = |d_z| / (sqrt(2) s_d |d_h|),
+// s_d^2 the slope variance along d's azimuth (s_u^2 cos^2 + s_c^2 sin^2 of its angle to the
+// wind); 1 + Lambda is the facets' area facing d per unit horizontal area, E[max(0, |d_z| +
+// |d_h| t)] / |d_z|. Light that does not clear them (hiding) meets the surface again on the
+// side it is on, at a facet drawn by the same projected-area rule (the tracer's walk over the
+// surface, transport/tracer.hpp; Heitz et al. 2016's random walk on the microsurface).
+// Shadowing of the incident light needs nothing more: in Smith's model G1 of the incident
+// direction does not depend on the facet, so the facets it reaches are distributed as the
+// projected-area rule already draws them.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/names.hpp"
@@ -45,6 +61,22 @@ inline const std::vector<NamedValue<FacetSampling>>& facet_sampling_names() {
 }
 
 inline FacetSampling parse_facets(const std::string& name) { return parse_named(facet_sampling_names(), "facets", name); }
+
+enum class Shadowing {
+    none,   ///< every facet's light leaves (M93, problem 5)
+    smith,  ///< light leaving a facet clears the other waves with probability G1 (Smith 1967)
+};
+
+/// The --shadowing names (core/names.hpp).
+inline const std::vector<NamedValue<Shadowing>>& shadowing_names() {
+    static const std::vector<NamedValue<Shadowing>> names{
+        {{"none", {}, "light leaving a facet always leaves (M93)"}, Shadowing::none},
+        {{"smith", {}, "light leaving a facet clears the other waves with Smith's probability G1"}, Shadowing::smith},
+    };
+    return names;
+}
+
+inline Shadowing parse_shadowing(const std::string& name) { return parse_named(shadowing_names(), "shadowing", name); }
 
 /// The variances of a surface's facet slopes along the wind and across it, and the wind's
 /// direction (the azimuth it blows towards, degrees from +x towards +y; only its axis matters).
@@ -82,10 +114,11 @@ private:
 class WindBlownSurface {
 public:
     explicit WindBlownSurface(FacetSlopes slopes, double water_index = 1.34,
-                              FacetSampling sampling = FacetSampling::projected_area, double air_index = 1.0)
+                              FacetSampling sampling = FacetSampling::projected_area, double air_index = 1.0,
+                              Shadowing shadowing = Shadowing::none)
         : slopes_(slopes), wind_x_(std::cos(slopes.wind_azimuth_deg * deg)),
           wind_y_(std::sin(slopes.wind_azimuth_deg * deg)), n_water_(water_index), n_air_(air_index),
-          sampling_(sampling) {
+          sampling_(sampling), shadowing_(shadowing) {
         require(std::isfinite(slopes.upwind) && slopes.upwind >= 0.0, "upwind slope variance", slopes.upwind,
                 "must be finite and >= 0");
         require(std::isfinite(slopes.crosswind) && slopes.crosswind >= 0.0, "crosswind slope variance",
@@ -104,6 +137,30 @@ public:
     [[nodiscard]] const FacetSlopes& slopes() const { return slopes_; }
     [[nodiscard]] double water_index() const { return n_water_; }
     [[nodiscard]] FacetSampling sampling() const { return sampling_; }
+    [[nodiscard]] Shadowing shadowing() const { return shadowing_; }
+    /// Whether light leaving the surface may be hidden by the other waves (Shadowing::smith).
+    [[nodiscard]] bool hides() const { return shadowing_ != Shadowing::none; }
+
+    /// Smith's Lambda for light leaving along d (header: 1 + Lambda is the facet area facing d
+    /// per unit horizontal area); 0 for a vertical d.
+    [[nodiscard]] double smith_lambda(const vec3& d) const {
+        const double h = std::hypot(d.x, d.y);
+        if (h == 0.0) return 0.0;
+        const double a = (d.x * wind_x_ + d.y * wind_y_) / h, b = (d.y * wind_x_ - d.x * wind_y_) / h;
+        const double sd = std::sqrt(slopes_.upwind * a * a + slopes_.crosswind * b * b);
+        if (sd == 0.0) return 0.0;  // no slope along d: nothing rises into its path
+        const double nu = std::abs(d.z) / (std::sqrt(2.0) * sd * h);
+        if (nu == 0.0) return INFINITY;  // level: every wave is in the way
+        return 0.5 * (std::exp(-nu * nu) / (nu * std::sqrt(pi)) - std::erfc(nu));
+    }
+    /// The probability G1 = 1 / (1 + Lambda) that light leaving along d clears the other waves.
+    [[nodiscard]] double clearing_probability(const vec3& d) const { return 1.0 / (1.0 + smith_lambda(d)); }
+
+    /// Whether light leaving the surface along d is hidden by the other waves and meets the
+    /// surface again (Shadowing::smith: one uniform drawn; none: never, nothing drawn).
+    [[nodiscard]] bool hidden(const vec3& d, PhotonRng& rng) const {
+        return shadowing_ == Shadowing::smith && rng.uniform() >= clearing_probability(d);
+    }
 
     /// The AirWaterSurface policy (surface.hpp): the photon meets a facet drawn for its direction.
     static constexpr bool random_facets = true;
@@ -122,9 +179,10 @@ public:
     }
 
 private:
-    /// The unit normal, facing the photon, of a facet met by a photon moving down along d
-    /// (d.z >= 0): the slope t along the photon's horizontal travel e, then the slope q across
-    /// it (along e_perp = z x e) given t.
+    /// The unit normal, facing the photon, of a facet met by a photon moving along d in the
+    /// frame where the surface lies below it (d.z >= 0 for light arriving at the mean plane,
+    /// d.z < 0 for light hidden on its way out): the slope t along the photon's horizontal
+    /// travel e, then the slope q across it (along e_perp = z x e) given t.
     vec3 facet_facing(const vec3& d, PhotonRng& rng) const {
         const double mu = d.z, h = std::hypot(d.x, d.y);
         const double ex = h > 0.0 ? d.x / h : 1.0, ey = h > 0.0 ? d.y / h : 0.0;
@@ -152,12 +210,22 @@ private:
         return std::sqrt(-2.0 * std::log(u1)) * std::cos(two_pi * u2);
     }
 
-    /// The slope along the photon's travel with density f(t) ~ max(0, mu + h t) exp(-t^2 / (2 sd^2)),
-    /// by rejection from g(t) = (mu + h max(t, 0)) exp(-t^2 / (2 sd^2)) >= f: a mixture of the
-    /// Gaussian (mass mu sd sqrt(2 pi)) and h t exp(-t^2 / (2 sd^2)) on t > 0 (mass h sd^2,
+    /// The slope along the photon's travel with density f(t) ~ max(0, mu + h t) exp(-t^2 / (2 sd^2)).
+    /// mu >= 0: by rejection from g(t) = (mu + h max(t, 0)) exp(-t^2 / (2 sd^2)) >= f: a mixture
+    /// of the Gaussian (mass mu sd sqrt(2 pi)) and h t exp(-t^2 / (2 sd^2)) on t > 0 (mass h sd^2,
     /// t = sd sqrt(-2 ln u)); a draw t < 0 is kept with probability (mu + h t) / mu = f / g.
-    /// At least half the draws are kept.
+    /// At least half the draws are kept. mu < 0 (hidden light, moving away from the surface):
+    /// f lives on t > t0 = -mu / h; from g(t) = h t exp(-t^2 / (2 sd^2)) on t > t0 (drawn as
+    /// t = sqrt(t0^2 - 2 sd^2 ln u)), kept with probability (mu + h t) / (h t) = f / g.
     static double seen_slope(double mu, double h, double sd, PhotonRng& rng) {
+        if (mu < 0.0) {
+            if (h == 0.0 || sd == 0.0) return 0.0;  // unreachable by hidden light (G1 = 1): a level facet
+            const double t0 = -mu / h;
+            while (true) {
+                const double t = std::sqrt(t0 * t0 - 2.0 * sd * sd * std::log(rng.uniform()));
+                if (rng.uniform() * h * t < mu + h * t) return t;
+            }
+        }
         const double gauss = mu * std::sqrt(two_pi), ramp = h * sd;  // the masses / sd
         while (true) {
             if (rng.uniform() * (gauss + ramp) >= gauss) return sd * std::sqrt(-2.0 * std::log(rng.uniform()));
@@ -169,6 +237,7 @@ private:
     /// The manual's facet: from p alone, drawn again while it faces away (mu + h t <= 0).
     static double redrawn_slope(double mu, double h, double sd, PhotonRng& rng) {
         if (sd == 0.0) return 0.0;  // no slope along the travel (a calm axis): only level facets
+        if (mu < 0.0 && h == 0.0) return 0.0;  // unreachable by hidden light (G1 = 1)
         while (true) {
             const double t = sd * standard_normal(rng);
             if (mu + h * t > 0.0) return t;
@@ -179,6 +248,7 @@ private:
     double wind_x_, wind_y_;  ///< the wind's unit direction
     double n_water_, n_air_;
     FacetSampling sampling_;
+    Shadowing shadowing_;
 };
 
 static_assert(AirWaterSurface<WindBlownSurface>);

@@ -99,6 +99,7 @@ struct PlaneParallelConfig {
     std::optional<double> water_index;
     FacetSlopes slopes;            ///< a wind-blown surface's facet slopes (scene/wind_blown_surface.hpp); all 0: flat
     FacetSampling facets = FacetSampling::projected_area;  ///< how a wind-blown surface's facets are met
+    Shadowing shadowing = Shadowing::none;                ///< whether its waves hide the light leaving it
     Bottom bottom;                 ///< depth in metres
     TransportSettings transport;   ///< photons, map photons, seed, threads, batches, depths, absorption
     StoreKind store = StoreKind::voi;
@@ -189,6 +190,8 @@ template <PhotonRecord Record, Medium M, AirWaterSurface Surface, class Split>
 TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, const Surface& surface,
                                            const AnySource& source, const PlaneParallelConfig& cfg, const Split& split) {
     const unsigned b = cfg.transport.batches;
+    require(split.ranks() == 1 || !cfg.transport.surface_map, "surface map", "on",
+            "is not gathered across processes (each keeps its own photons' arrivals): use one process");
     const BlockRange range = split.ranks() == 1 ? BlockRange{}
                                                 : blocks_of_batches(cfg.transport, b * split.rank() / split.ranks(),
                                                                     b * (split.rank() + 1) / split.ranks());
@@ -225,7 +228,7 @@ TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnyS
                                    const PlaneParallelConfig& cfg, const Split& split = {}) {
     const double n = water_index_of(medium, cfg);
     if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
-        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets), source, cfg, split);
+        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets, 1.0, cfg.shadowing), source, cfg, split);
     return first_pass_through<Record>(medium, slab, FlatSurface(n), source, cfg, split);
 }
 

@@ -110,6 +110,7 @@ private:
     static TransportSettings supported(TransportSettings s) {
         require(!s.importance.enabled(), "depth importance (cosine)", s.importance.cosine,
                 "LaneTracer does not split photons by depth; use PhotonTracer");
+        require(!s.surface_map, "surface map", "on", "is not kept by LaneTracer; use PhotonTracer");
         return s;
     }
 

@@ -54,6 +54,9 @@ struct TransportSettings {
     std::vector<double> depths;         ///< irradiance detector depths (m)
     /// Ed on the bottom in bottom_bins x bottom_bins bins over the section (bottom_grid.hpp); 0: none.
     unsigned bottom_bins = 0;
+    /// Keep the map photons' arrivals on objects and on an opaque bottom: the surface photon
+    /// map (TransportResult::surface_photons; map/surface_record.hpp).
+    bool surface_map = false;
     /// Scalar irradiances score a crossing 1/|mu|, or 2/mu_c below this cosine (irradiance_planes.hpp).
     double grazing_cosine = 0.05;
     AbsorptionMode absorption = AbsorptionMode::continuous;

@@ -21,6 +21,7 @@
 #include "secchi/core/rng.hpp"
 #include "secchi/core/stats.hpp"
 #include "secchi/map/record.hpp"
+#include "secchi/map/surface_record.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/scene/flat_surface.hpp"
 #include "secchi/scene/geometry.hpp"
@@ -68,6 +69,9 @@ struct TransportResult {
     AboveSurface above;                               ///< Ed(0+) direct and diffuse, Eu(0+)
     EnergyLedger ledger;                              ///< normalised per incident photon
     std::vector<Record> records;                      ///< the photon map, in photon order
+    /// The surface photon map (settings.surface_map): the map photons' arrivals on objects and
+    /// an opaque bottom, in photon order; each carries weight x map_flux.per_record.
+    std::vector<SurfacePhoton> surface_photons;
     RecordFlux map_flux;                              ///< what a record carries (the source's plane irradiance x area / map photons)
     std::uint64_t photons = 0, map_photons = 0;
     unsigned batches = 0;
@@ -86,6 +90,7 @@ struct BlockResult {
     double ed_direct = 0, ed_diffuse = 0, eu_air = 0;  // just above the surface (AboveSurface)
     EnergyLedger ledger;
     RecordChunks<Record> records;
+    std::vector<SurfacePhoton> surface;  // arrivals on objects and the bottom (settings.surface_map)
 };
 
 }  // namespace detail
@@ -346,12 +351,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             if constexpr (Geometry::has_objects) {  // the flight ends where it first meets an object
                 if (const auto hit = periodic_closest_hit(geometry_, slab_.width(), p.pos, p.dir, f.t)) {
                     fly(p, hit->t, p.pos.z + p.dir.z * hit->t, out);
+                    keep_arrival(p, hit->point, hit->normal, hit->material, slot, out);
                     if (!reflect_at_object(p, rng, out.ledger, *hit)) return;
                     continue;
                 }
             }
             fly(p, f.t, f.z1, out);
-            const bool goes_on = f.to_surface || f.to_floor ? meet_boundary(p, rng, out, f.to_surface)
+            const bool goes_on = f.to_surface || f.to_floor ? meet_boundary(p, rng, out, f.to_surface, slot)
                                                             : interact(p, rng, out, slot);
             if (!goes_on) return;
         }
@@ -359,13 +365,23 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
 
     /// A photon that flew to the surface (Fresnel reflection or escape) or to the floor (Ed at
     /// the bottom; the bottom's reflection, or transmission). False if it leaves or ends.
-    bool meet_boundary(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool surface) const {
+    bool meet_boundary(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, bool surface,
+                       MapSlot slot = {}) const {
         if (surface) return leave_or_reflect_at_surface(p, rng, out);
         if (slab_.has_bottom()) {
             out.bottom_ed += p.w;
             if (grid_.size()) out.bottom_bins[grid_.bin(slab_.wrap(p.pos.x), slab_.wrap(p.pos.y))] += p.w;
+            if (!slab_.bottom().transmits())
+                keep_arrival(p, {p.pos.x, p.pos.y, slab_.floor_depth()}, vec3(0.0, 0.0, -1.0), SurfacePhoton::bottom, slot, out);
         }
         return reflect_at_bottom(p, rng, out.ledger);
+    }
+
+    /// A map photon's arrival on an opaque surface into the surface photon map (settings.surface_map).
+    void keep_arrival(const PhotonState& p, const vec3& point, const vec3& normal, std::uint32_t surface, MapSlot slot,
+                      detail::BlockResult<Record>& out) const {
+        if (!s_.surface_map || !slot.stores) return;
+        out.surface.push_back({{slab_.wrap(point.x), slab_.wrap(point.y), point.z}, normal, p.w, surface, slot.batch});
     }
 
     /// Distance (m) by which a photon reflected by an object leaves its surface along the
@@ -533,7 +549,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         for (int hits = 1;; ++hits) {
             const bool from_air = side == Side::air;
             bool reflect;
-            if (from_air && !physics_.analog() && h.reflected.z < 0.0 && !coupled) {
+            if (from_air && !physics_.analog() && h.reflected.z < 0.0 && !coupled && !may_hide()) {
                 const double reflected = p.w * h.reflectance;
                 left += reflected;  // expected value: the weight carries the transmittance
                 out.eu_air += reflected;
@@ -544,6 +560,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             }
             p.dir = reflect ? h.reflected : h.transmitted;
             const bool in_water = from_air != reflect;  // the side the photon is now on
+            const bool leaves_surface = in_water ? p.dir.z > 0.0 : p.dir.z < 0.0;
+            if (leaves_surface && hidden(p.dir, rng)) {  // the other waves are in its way: it meets the surface again
+                if (hits == max_surface_hits) break;
+                side = in_water ? Side::water : Side::air;
+                h = surface_.hit(p.dir, side, rng);
+                continue;
+            }
             if (in_water && p.dir.z > 0.0) return true;
             if (!in_water && p.dir.z < 0.0) {
                 out.eu_air += p.w;
@@ -565,6 +588,18 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         }
         out.ledger.truncated += p.w;
         return false;
+    }
+
+    /// Whether the surface may hide light leaving it (wind_blown_surface.hpp, Shadowing::smith).
+    bool may_hide() const {
+        if constexpr (requires { surface_.hides(); }) return surface_.hides();
+        else return false;
+    }
+    /// Whether light leaving the surface along `dir` is hidden by the other waves (draws only
+    /// where the surface may hide it).
+    bool hidden(const vec3& dir, PhotonRng& rng) const {
+        if constexpr (requires { surface_.hidden(dir, rng); }) return surface_.hidden(dir, rng);
+        else return false;
     }
 
     /// The hit of a photon of the source's collimated beam: computed once when it draws no
@@ -688,6 +723,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         std::vector<std::array<double, 3>> batch_above(s_.batches, {0.0, 0.0, 0.0});
         TransportResult<Record> r;
         r.records = std::move(records);
+        for (const auto& res : results) r.surface_photons.insert(r.surface_photons.end(), res.surface.begin(), res.surface.end());
         for (std::size_t i = 0; i < blocks.size(); ++i) {  // fixed order: deterministic sums
             const auto& blk = blocks[i];
             const auto& res = results[i];
