@@ -182,6 +182,12 @@ TEST_CASE("Scene radiance: a grey object and the bottom with a surface map add A
     }
     CHECK(on_box > 30);
     CHECK(on_bottom > 30);
+    // A glossy object is refused (its light needs the incident directions).
+    Shapes shiny;
+    shiny.add(AxisBox(vec3(0.25, 0.25, 2.0), vec3(0.75, 0.75, 2.5)), ObjectMaterial::ward(0.2, 0.3, 0.1));
+    const SceneRadianceEstimator shiny_scene(est, shiny, {}, surface);
+    CHECK_THROWS_WITH(shiny_scene.radiance(Ray{vec3(0.5, 0.5, 1.0), vec3(0.0, 0.0, 1.0), INFINITY}),
+                      Contains("object glossy albedo = 0.3") && Contains("not modelled by the second pass"));
     // The map's bands must be one; a black object needs no map and adds nothing.
     const SceneRadianceEstimator black(est, black_box(), {}, surface);
     CHECK(black.radiance(Ray{vec3(0.5, 0.5, 1.0), vec3(0.0, 0.0, 1.0), INFINITY}).value ==

@@ -11,7 +11,8 @@
 //  - at an object: L_end = A E_obj / pi, A its albedo at the point met and E_obj the irradiance
 //    there from the surface photon map (estimate/surface_irradiance.hpp; the first pass run
 //    with TransportSettings::surface_map), its SE beside it; black objects (A = 0) need no
-//    map. Without a map a ray meeting an object of albedo > 0 is refused, naming it;
+//    map. Without a map a ray meeting an object of albedo > 0 is refused, naming it, as is
+//    one meeting a glossy object (scene/ward.hpp: its light needs the incident directions);
 //  - at a Lambertian bottom: L_end = A Ed / pi (M93 eq. 11), Ed that of the bin the ray meets
 //    (bins over the periodic section) if bins are given, else the surface map's at the point
 //    met if one is given, else the wrapped estimator's bottom (lit evenly); the SE beside it
@@ -74,7 +75,12 @@ public:
         const double t_limit = std::min(ray.t_max, t_bottom);
         const auto hit = periodic_closest_hit(geometry_, map().section_width(), ray.origin, ray.direction, t_limit);
         if (hit) {  // an object ends the ray: the path to it, then the light it sends back
-            const double albedo = geometry_.material(hit->material).albedo_at(hit->point);
+            const ObjectMaterial material = geometry_.material(hit->material);
+            if (material.specular > 0.0)
+                reject("object glossy albedo", material.specular,
+                       "is not modelled by the second pass (a glossy surface's light needs the directions of the light "
+                       "arriving on it, which the surface map does not keep), object " + std::to_string(hit->material));
+            const double albedo = material.albedo_at(hit->point);
             est_.add(Ray{ray.origin, ray.direction, hit->t}, band, weight, sum);
             if (albedo == 0.0) return;
             if (!surface_)

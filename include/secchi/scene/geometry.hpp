@@ -21,10 +21,12 @@
 //
 // A photon meeting an object is reflected by its material, or absorbed: ObjectMaterial is
 // Lambertian (f_r = A / pi; A = 0 absorbs everything) with a constant albedo A or an albedo
-// map, A(x, y) over the section seen from above (AlbedoMap). Glossy models (Ward) are not here.
+// map, A(x, y) over the section seen from above (AlbedoMap), plus optionally Ward's glossy
+// lobe of albedo rho_s (scene/ward.hpp): f_r = A / pi + f_s, A + rho_s <= 1.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/core/math.hpp"
+#include "secchi/scene/ward.hpp"
 #include <algorithm>
 #include <cmath>
 #include <concepts>
@@ -62,6 +64,8 @@ public:
             require(std::isfinite(albedo_[k]) && albedo_[k] >= 0.0 && albedo_[k] <= 1.0, indexed_name("albedo map", k),
                     albedo_[k], "must be in [0, 1]");
     }
+    /// The largest A of the map.
+    [[nodiscard]] double max() const { return *std::max_element(albedo_.begin(), albedo_.end()); }
     /// A at the point (x, y) (any x, y: the map repeats with period W).
     [[nodiscard]] double at(double x, double y) const {
         const auto cell = [this](double v, unsigned n) {
@@ -78,10 +82,13 @@ private:
 
 /// An object's surface: Lambertian, f_r = A / pi, with albedo (directional-hemispherical
 /// reflectance, the same for every incidence) A in [0, 1], constant or from a map; A = 0 is a
-/// black, absorbing surface.
+/// black, absorbing surface. Glossy: Ward's lobe added, of albedo rho_s (`specular`) and
+/// roughness alpha (scene/ward.hpp), A + rho_s <= 1.
 struct ObjectMaterial {
     double albedo = 0.0;                    ///< A, where there is no map
     std::shared_ptr<const AlbedoMap> map;   ///< if set: A = map->at(x, y) of the point met
+    double specular = 0.0;                  ///< rho_s of the glossy lobe (0: Lambertian only)
+    WardLobe lobe;                          ///< the glossy lobe's shape (where specular > 0)
 
     ObjectMaterial() = default;
     /// Unchecked (as an aggregate would be): the geometries check their materials (checked()).
@@ -92,9 +99,22 @@ struct ObjectMaterial {
     static ObjectMaterial absorbing() { return {}; }
     static ObjectMaterial lambertian(double albedo) { return checked(ObjectMaterial(albedo)); }
     static ObjectMaterial mapped(AlbedoMap map) { return ObjectMaterial(0.0, std::make_shared<const AlbedoMap>(std::move(map))); }
-    /// `m` after the check of its constant albedo (a map checks its own values).
+    /// Lambertian of albedo `diffuse` plus Ward's glossy lobe of albedo `specular` and
+    /// roughness alpha (the microfacets' rms slope: 0.05 polished, 0.3 rough).
+    static ObjectMaterial ward(double diffuse, double specular, double roughness) {
+        ObjectMaterial m(diffuse);
+        m.specular = specular;
+        m.lobe = WardLobe(roughness);
+        return checked(m);
+    }
+    /// `m` after the check of its albedos (a map checks its own values, each within 1 - rho_s).
     static ObjectMaterial checked(ObjectMaterial m) {
         require(std::isfinite(m.albedo) && m.albedo >= 0.0 && m.albedo <= 1.0, "object albedo", m.albedo, "must be in [0, 1]");
+        require(std::isfinite(m.specular) && m.specular >= 0.0 && m.specular <= 1.0, "object glossy albedo", m.specular,
+                "must be in [0, 1]");
+        const double diffuse = m.map ? m.map->max() : m.albedo;
+        require(diffuse + m.specular <= 1.0, "object glossy albedo", m.specular,
+                "must not exceed 1 - the diffuse albedo (" + std::to_string(diffuse) + "): no more light sent back than received");
         return m;
     }
 };

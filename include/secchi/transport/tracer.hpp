@@ -406,17 +406,36 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// A photon that met an object (`hit`, scene/geometry.hpp): absorbed by a black surface
     /// (albedo 0 at the point met), else reflected Lambertian-ly, weight x A (implicit capture, continuous) or
     /// surviving with probability A (analog), the rest absorbed by the object; the direction
-    /// cosine-weighted about the normal (pdf cos theta / pi), as at a Lambertian bottom.
+    /// cosine-weighted about the normal (pdf cos theta / pi), as at a Lambertian bottom. A glossy
+    /// material (rho_s > 0, scene/ward.hpp) reflects with A = rho_d + rho_s in the same way, then
+    /// takes its glossy lobe with probability rho_s / A: a direction drawn from the lobe, the
+    /// photon's weight times the draw's (its mean is the lobe's directional albedo over rho_s,
+    /// at most 1, a draw's at most 2; a draw below the surface is absorbed), with weighted
+    /// photons only (analog ones are refused); a photon of weight w > 1 stores floor(w) records
+    /// and one more with probability frac(w), so that records keep their equal flux.
     /// False if the photon ends.
     bool reflect_at_object(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, const ObjectHit& hit) const {
-        const double albedo = geometry_.material(hit.material).albedo_at(hit.point);
+        const ObjectMaterial material = geometry_.material(hit.material);
+        const double diffuse = material.albedo_at(hit.point), albedo = diffuse + material.specular;
         if (albedo == 0.0) {
             ledger.absorbed_objects += p.w;
             return false;
         }
         if (!survives_reflection(p, rng, albedo, ledger.absorbed_objects)) return false;
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        p.dir = lambertian_direction(hit.normal, u1, u2);
+        if (material.specular > 0.0 && physics_.analog())
+            reject("object glossy albedo", material.specular,
+                   "needs weighted photons (absorption continuous or implicit): a glossy reflection's weight is not 0 or 1");
+        if (material.specular > 0.0 && rng.uniform() * albedo >= diffuse) {  // the glossy lobe
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const GlossyDraw g = material.lobe.sample(-p.dir, hit.normal, u1, u2);
+            ledger.absorbed_objects += p.w * (1.0 - g.weight);  // negative where the draw's weight exceeds 1
+            p.w *= g.weight;
+            if (g.weight == 0.0) return false;
+            p.dir = g.direction;
+        } else {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            p.dir = lambertian_direction(hit.normal, u1, u2);
+        }
         p.pos += hit.normal * object_offset;
         p.pos.z = std::clamp(p.pos.z, 0.0, slab_.floor_depth());
         return roulette(p, rng, ledger);
@@ -683,7 +702,13 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         const Record rec = record_of(p, map_batch);
         if (!importance_on_) {
             const double u = physics_.storage_draws() ? rng.uniform() : 0.0;
-            if (physics_.keeps(p.w, u, p.pos.z)) out.records.push_back(rec);
+            if (p.w > 1.0) {  // (after a glossy reflection) floor(w) records, one more with probability frac(w)
+                const double copies = std::floor(p.w) + (u < p.w - std::floor(p.w) ? 1.0 : 0.0);
+                if (physics_.in_map(p.pos.z))
+                    for (double i = 0; i < copies; ++i) out.records.push_back(rec);
+            } else if (physics_.keeps(p.w, u, p.pos.z)) {
+                out.records.push_back(rec);
+            }
             return;
         }
         // The flux a record carries is set by its stored (rounded) depth: use the same here.
