@@ -174,6 +174,19 @@ std::vector<double> analytic_profile(double bottom, double c, unsigned n, double
     return e;
 }
 
+/// The caustic runs' first pass: 1e6 photons, none stored, the bottom's Ed in n x n bins,
+/// continuous absorption without roulette (every photon reaches the bottom: no scattering).
+TransportSettings caustic_settings(unsigned n) {
+    TransportSettings s;
+    s.photons = 1'000'000;
+    s.map_photons = 0;
+    s.depths = {1.0};
+    s.bottom_bins = n;
+    s.absorption = AbsorptionMode::continuous;
+    s.roulette_weight = 0.0;
+    return s;
+}
+
 /// Bins that are the largest within +-2 bins (cyclically) and above `above` x the mean.
 std::vector<unsigned> peaks(const std::vector<double>& v, double above) {
     double mean = 0.0;
@@ -203,13 +216,7 @@ TEST_CASE("Caustics on a flat bottom under the manual's wave match the analytic 
     const IsoWater water = IsoWater::from_albedo(c, 0.0, IsotropicPhase{});
     constexpr unsigned n = 64;
     for (const double bottom : {4.4, 6.2, 8.3}) {
-        TransportSettings s;
-        s.photons = 1'000'000;
-        s.map_photons = 0;
-        s.depths = {1.0};
-        s.bottom_bins = n;
-        s.absorption = AbsorptionMode::continuous;
-        s.roulette_weight = 0.0;
+        const TransportSettings s = caustic_settings(n);
         const auto r = WaveTracer<IsoWater, SinusoidalWave>(water, Slab(wavelength, Bottom::transparent_at(bottom)),
                                                            manual_wave(), SunAndSky(CollimatedSun(0.0)), s)
                            .run();
@@ -526,13 +533,7 @@ TEST_CASE("Caustics of crossed waves on a flat bottom match their refraction geo
     const double c = 0.05, bottom = 6.2, width = 5.0;
     const IsoWater water = IsoWater::from_albedo(c, 0.0, IsotropicPhase{});
     constexpr unsigned n = 64;
-    TransportSettings s;
-    s.photons = 1'000'000;
-    s.map_photons = 0;
-    s.depths = {1.0};
-    s.bottom_bins = n;
-    s.absorption = AbsorptionMode::continuous;
-    s.roulette_weight = 0.0;
+    const TransportSettings s = caustic_settings(n);
     const auto r = WaveTracer<IsoWater, WaveSum>(water, Slab(width, Bottom::transparent_at(bottom)), crossed_waves(),
                                                  SunAndSky(CollimatedSun(0.0)), s)
                        .run();
