@@ -41,7 +41,7 @@ TransportResult<CompactRecord> trace(const G& g, std::uint64_t photons, unsigned
     s.threads = threads;
     return PhotonTracer<Water, CompactRecord, FlatSurface, SunAndSky, IrradiancePlanes, Bottom, G>(
                Water::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.9)), Slab(width, Bottom::lambertian_at(6.0, 0.2)),
-               FlatSurface(1.34), SunAndSky(CollimatedSun(30.0 * pi / 180.0)), s, g)
+               FlatSurface(1.34), SunAndSky(CollimatedSun(30.0)), s, g)
         .run();
 }
 

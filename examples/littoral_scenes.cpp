@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
             const double bottom = 5.0, width = 4.0;
             const HgWater water = HgWater::from_albedo(0.2, 0.5, HenyeyGreensteinPhase(0.5));
             const Slab slab(width, Bottom::lambertian_at(bottom, 0.5));
-            const SunAndSky sun(CollimatedSun(30.0 * deg));
+            const SunAndSky sun(CollimatedSun(30.0));
             Shapes box;
             box.add(AxisBox(vec3(1.5, 1.5, 2.0), vec3(2.5, 2.5, 2.5)), ObjectMaterial::lambertian(0.4));
             TransportSettings s = settings(photons, 128, threads);

@@ -152,7 +152,7 @@ TEST_CASE("A glossy floor under a vertical beam sends up the Eu and Eou of its B
 TEST_CASE("Glossy objects in the first pass: the ledger closes, threads agree, rho_s = 0 is Lambertian; refusals") {
     const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
     const Slab slab(1.0, Bottom::lambertian_at(4.0, 0.3));
-    const SunAndSky sun(CollimatedSun(30.0 * deg));
+    const SunAndSky sun(CollimatedSun(30.0));
     Shapes glossy;
     glossy.add(AxisBox(vec3(0.25, 0.25, 1.5), vec3(0.75, 0.75, 2.0)), ObjectMaterial::ward(0.2, 0.5, 0.1));
     glossy.add(Sphere(vec3(0.5, 0.5, 3.0), 0.3), ObjectMaterial::ward(0.0, 0.9, 0.3));

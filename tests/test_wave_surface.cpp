@@ -255,7 +255,7 @@ TEST_CASE("Flat limits: problems 2a and 6 through a wave of amplitude 0 and over
     // surface's sun photons carry the expected value, and the box's reflection draws its own
     // numbers: the runs agree in distribution, not in bits (4 combined SE, different seeds).
     using PetzoldWater = HomogeneousWater<TabulatedPhase>;
-    const SunAndSky sun(CollimatedSun(60.0 * deg));
+    const SunAndSky sun(CollimatedSun(60.0));
     const SinusoidalWave flat_wave(0.0, 1.0, 0.0, 0.0, n_water);
     TransportSettings s;
     s.photons = 200'000;
@@ -301,7 +301,7 @@ TEST_CASE("Flat limits: problems 2a and 6 through a wave of amplitude 0 and over
 TEST_CASE("Through the wave with scattering the ledger closes, for 1 and 2 threads alike; bad scenes refused") {
     const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
     const Slab slab(wavelength, Bottom::lambertian_at(6.0, 0.5));
-    const SunAndSky sky(CollimatedSun(60.0 * deg), UniformSky(0.5));  // low sun and a sky: light meets crests sideways
+    const SunAndSky sky(CollimatedSun(60.0), UniformSky(0.5));  // low sun and a sky: light meets crests sideways
     for (const AbsorptionMode mode : {AbsorptionMode::analog, AbsorptionMode::continuous}) {
         TransportSettings s;
         s.photons = 40'000;
@@ -454,7 +454,7 @@ TEST_CASE("WaveSum: two equal collinear terms are SinusoidalWave of their summed
     // or a bin flipped by such a difference would show as a far larger one).
     const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
     const Slab slab(wavelength, Bottom::lambertian_at(6.0, 0.5));
-    const SunAndSky sky(CollimatedSun(40.0 * deg), UniformSky(0.5));
+    const SunAndSky sky(CollimatedSun(40.0), UniformSky(0.5));
     TransportSettings s;
     s.photons = 40'000;
     s.map_photons = 0;
@@ -564,7 +564,7 @@ TEST_CASE("Caustics of crossed waves on a flat bottom match their refraction geo
 TEST_CASE("Through crossed waves with scattering the ledger closes, for 1 and 2 threads alike") {
     const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
     const Slab slab(5.0, Bottom::lambertian_at(6.0, 0.5));
-    const SunAndSky sky(CollimatedSun(60.0 * deg), UniformSky(0.5));
+    const SunAndSky sky(CollimatedSun(60.0), UniformSky(0.5));
     TransportSettings s;
     s.photons = 40'000;
     s.map_photons = 4'000;
