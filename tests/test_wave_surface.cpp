@@ -579,3 +579,40 @@ TEST_CASE("Through crossed waves with scattering the ledger closes, for 1 and 2 
     const auto two = WaveTracer<HgWater, WaveSum>(water, slab, crossed_waves(), sky, s).run();
     testing::require_identical(one, two);
 }
+
+namespace {
+/// A broken surface policy: the manual's wave, whose meetings send light back where it came
+/// from: light from the air "enters" the water moving up, and light from the water is
+/// "reflected" on along its way up. Such a photon meets the surface again at once, for ever:
+/// the tracer must stop it (truncated) rather than follow it.
+struct ReturningWave {
+    SinusoidalWave wave = manual_wave();
+    [[nodiscard]] std::optional<double> first_crossing(const vec3& o, const vec3& d, Side side, double t_max) const {
+        return wave.first_crossing(o, d, side, t_max);
+    }
+    [[nodiscard]] vec3 normal_into_water(double x, double y) const { return wave.normal_into_water(x, y); }
+    [[nodiscard]] SurfaceHit hit_at(const vec3&, const vec3& d, Side from) const {
+        const vec3 up{d.x, d.y, -std::abs(d.z)};
+        return from == Side::air ? SurfaceHit{0.0, up, up} : SurfaceHit{1.0, up, up};
+    }
+    [[nodiscard]] double crest_depth() const { return wave.crest_depth(); }
+    [[nodiscard]] double trough_depth() const { return wave.trough_depth(); }
+    [[nodiscard]] bool periodic_in(double w) const { return wave.periodic_in(w); }
+    [[nodiscard]] double water_index() const { return wave.water_index(); }
+};
+static_assert(GeometricSurface<ReturningWave>);
+}  // namespace
+
+TEST_CASE("A surface policy that keeps returning light to itself stops photons (truncated) instead of looping") {
+    const HgWater water = HgWater::from_albedo(0.5, 0.8, HenyeyGreensteinPhase(0.8));
+    TransportSettings s;
+    s.photons = 2000;
+    s.map_photons = 0;
+    s.depths = {1.0};
+    const auto r = WaveTracer<HgWater, ReturningWave>(water, Slab(wavelength, Bottom::lambertian_at(6.0, 0.5)),
+                                                      ReturningWave{}, SunAndSky(CollimatedSun(30.0)), s)
+                       .run();
+    INFO("truncated " << r.ledger.truncated);
+    CHECK(r.ledger.truncated > 0.5);
+    CHECK(std::abs(r.ledger.imbalance()) <= 1e-9 * r.ledger.incident);
+}

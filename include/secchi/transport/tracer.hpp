@@ -339,13 +339,21 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     void follow(PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out, MapSlot slot,
                 std::vector<PhotonState>& pending) const {
         const Coefficient path_kind = physics_.path_coefficient();
+        [[maybe_unused]] int stuck = 0;  // meetings with the surface in a row without leaving it
         while (true) {
             if (importance_on_ && !change_level(p, rng, out.ledger, pending)) return;
             const double s = medium_.distance_to(path_kind, p.pos.z, p.dir.z, -std::log(rng.uniform()));
             FreeFlight<double> f = physics_.free_flight(p.pos.z, p.dir.z, s);
             if constexpr (wavy) {  // the flight ends where it first reaches the surface
-                if (const auto t = surface_.first_crossing(p.pos, p.dir, Side::water, f.t)) {
-                    f = {*t, p.pos.z + p.dir.z * *t, true, false};
+                const auto t = surface_.first_crossing(p.pos, p.dir, Side::water, f.t);
+                if (t) f = {*t, p.pos.z + p.dir.z * *t, true, false};
+                // A photon that meets the surface again within twice the offset it was given off
+                // it has not left it: a surface policy whose normal or crossings disagree with its
+                // shape. Stopped (truncated) after max_surface_hits such meetings, not followed for ever.
+                stuck = t && *t <= 2.0 * surface_offset ? stuck + 1 : 0;
+                if (stuck > max_surface_hits) {
+                    out.ledger.truncated += p.w;
+                    return;
                 }
             }
             if constexpr (Geometry::has_objects) {  // the flight ends where it first meets an object
