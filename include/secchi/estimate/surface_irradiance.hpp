@@ -24,6 +24,7 @@
 #include "secchi/core/units.hpp"
 #include "secchi/map/surface_record.hpp"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -72,21 +73,23 @@ public:
         const double r2 = radius_ * radius_;
         const long ci = cell_of(x.x), cj = cell_of(x.y), n_cells = cells_;
         // The distinct columns within one of (ci, cj), modulo n (fewer than 9 when n < 3).
-        std::vector<std::size_t> columns;
+        std::array<std::size_t, 9> columns{};
+        std::size_t k = 0;
         for (long dj = -1; dj <= 1; ++dj)
             for (long di = -1; di <= 1; ++di) {
                 const long i = ((ci + di) % n_cells + n_cells) % n_cells, j = ((cj + dj) % n_cells + n_cells) % n_cells;
-                columns.push_back(static_cast<std::size_t>(j * n_cells + i));
+                columns[k++] = static_cast<std::size_t>(j * n_cells + i);
             }
         std::sort(columns.begin(), columns.end());
-        columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
-        for (const std::size_t c : columns)
-            for (std::size_t k = start_[c]; k < start_[c + 1]; ++k) {
-                const SurfacePhoton& p = photons_[k];
+        const auto last = std::unique(columns.begin(), columns.end());
+        for (auto c_it = columns.begin(); c_it != last; ++c_it) {
+            for (std::size_t m = start_[*c_it]; m < start_[*c_it + 1]; ++m) {
+                const SurfacePhoton& p = photons_[m];
                 // The nearest periodic image of the arrival (r <= W / 4: one image within r at most).
                 const vec3 d{nearest_image(p.point.x - x.x), nearest_image(p.point.y - x.y), p.point.z - x.z};
                 if (glm::dot(d, d) < r2 && glm::dot(p.normal, n) >= min_cos_) per_batch[p.batch] += p.weight;
             }
+        }
         const double scale = static_cast<double>(batches_) * flux_ / (std::numbers::pi * r2);
         for (double& v : per_batch) v *= scale;
         return batch_estimate(per_batch);

@@ -429,19 +429,19 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             ledger.absorbed_objects += p.w;
             return false;
         }
-        if (!survives_reflection(p, rng, albedo, ledger.absorbed_objects)) return false;
         if (material.specular > 0.0 && physics_.analog())
             reject("object glossy albedo", material.specular,
                    "needs weighted photons (absorption continuous or implicit): a glossy reflection's weight is not 0 or 1");
-        if (material.specular > 0.0 && rng.uniform() * albedo >= diffuse) {  // the glossy lobe
-            const double u1 = rng.uniform(), u2 = rng.uniform();
+        if (!survives_reflection(p, rng, albedo, ledger.absorbed_objects)) return false;
+        const bool glossy = material.specular > 0.0 && rng.uniform() * albedo >= diffuse;
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        if (glossy) {
             const GlossyDraw g = material.lobe.sample(-p.dir, hit.normal, u1, u2);
             ledger.absorbed_objects += p.w * (1.0 - g.weight);  // negative where the draw's weight exceeds 1
             p.w *= g.weight;
             if (g.weight == 0.0) return false;
             p.dir = g.direction;
         } else {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
             p.dir = lambertian_direction(hit.normal, u1, u2);
         }
         p.pos += hit.normal * object_offset;
@@ -711,7 +711,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         if (!importance_on_) {
             const double u = physics_.storage_draws() ? rng.uniform() : 0.0;
             if (p.w > 1.0) {  // (after a glossy reflection) floor(w) records, one more with probability frac(w)
-                const double copies = std::floor(p.w) + (u < p.w - std::floor(p.w) ? 1.0 : 0.0);
+                const double copies = EventPhysics::copies(p.w, 1.0, u);
                 if (physics_.in_map(p.pos.z))
                     for (double i = 0; i < copies; ++i) out.records.push_back(rec);
             } else if (physics_.keeps(p.w, u, p.pos.z)) {
@@ -756,10 +756,10 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         std::vector<std::array<double, 3>> batch_above(s_.batches, {0.0, 0.0, 0.0});
         TransportResult<Record> r;
         r.records = std::move(records);
-        for (const auto& res : results) r.surface_photons.insert(r.surface_photons.end(), res.surface.begin(), res.surface.end());
         for (std::size_t i = 0; i < blocks.size(); ++i) {  // fixed order: deterministic sums
             const auto& blk = blocks[i];
             const auto& res = results[i];
+            r.surface_photons.insert(r.surface_photons.end(), res.surface.begin(), res.surface.end());
             for (std::size_t d = 0; d < nd; ++d)
                 for (int k = 0; k < 4; ++k) batch_tally[blk.batch][d][k] += res.tally[d][k];
             batch_bottom[blk.batch] += res.bottom_ed;
