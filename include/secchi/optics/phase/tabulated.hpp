@@ -17,7 +17,7 @@
 //    f(theta_{N-1}) / (2 pi (pi - theta_{N-1})).
 //  * TabulatedConvention::linear_p: p linear in psi between nodes, times the exact sin(psi)
 //    (the Petzold table integrates to 1.020). The CDF within a segment,
-//    -a cos psi + b (sin psi - psi cos psi) + const, is inverted by safeguarded Newton.
+//    -a cos psi + b (sin psi - psi cos psi) + const, is inverted by safeguarded Halley steps.
 //  * A table ending before 180 deg is extended to 180 deg with its last value.
 // Either way the table is then divided by its exact integral, raw_integral(), so that
 // 2 pi int p sin dpsi = 1.
@@ -51,6 +51,10 @@ inline double x_minus_sin(double x) {
         return x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0)));
     }
     return x - std::sin(x);
+}
+/// x - sin(x) given sin(x).
+inline double x_minus_sin(double x, double sin_x) {
+    return std::abs(x) < 1e-2 ? x_minus_sin(x) : x - sin_x;
 }
 /// x / sin(x), finite at x = 0.
 inline double x_over_sin(double x) { return std::abs(x) < 1e-4 ? 1.0 + x * x / 6.0 : x / std::sin(x); }
@@ -122,7 +126,11 @@ public:
             theta_.push_back(pi);
             p_.push_back(value.back());
         }
-        for (std::size_t i = 0; i < theta_.size(); ++i) f_.push_back(two_pi * p_[i] * detail::sin_angle(theta_[i]));
+        for (std::size_t i = 0; i < theta_.size(); ++i) {
+            sin_.push_back(detail::sin_angle(theta_[i]));
+            cos_.push_back(std::cos(theta_[i]));
+            f_.push_back(two_pi * p_[i] * sin_.back());
+        }
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) slope_.push_back((f_[i + 1] - f_[i]) / width(i));
         cum_.push_back(power_mass(theta_[0]));
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) cum_.push_back(cum_.back() + segment_mass(i, width(i)));
@@ -255,11 +263,37 @@ private:
     /// Unnormalised mass in [theta_i, theta_i + d].
     double segment_mass(std::size_t i, double d) const {
         if (convention_ == TabulatedConvention::trapezoid) return d * (f_[i] + 0.5 * slope_[i] * d);
-        // int (p_i + t x) sin(theta_i + x) dx over [0, d], written without cancellation:
-        // p_i (cos theta_i - cos psi) + t (sin psi (1 - cos d) - cos psi (d - sin d)).
-        const double t = (p_[i + 1] - p_[i]) / width(i), psi = theta_[i] + d, sh = std::sin(0.5 * d);
-        return two_pi * (p_[i] * 2.0 * std::sin(theta_[i] + 0.5 * d) * sh +
-                         t * (std::sin(psi) * 2.0 * sh * sh - std::cos(psi) * detail::x_minus_sin(d)));
+        return linear_p_mass(i, d, angles(i, d));
+    }
+
+    /// sin(d/2), sin d and the sines and cosines of theta_i + d/2 and psi = theta_i + d, from
+    /// one sine and cosine of d/2 and the node's own (angle addition).
+    struct SegmentAngles {
+        double sin_half, sin_d, sin_mid, sin_psi, cos_psi;
+    };
+    SegmentAngles angles(std::size_t i, double d) const {
+        const double x = 0.5 * d;
+        double sh, ch;
+        if (x < 0.1) {
+            // Taylor series on [0, 0.1): sin to x^13, cos to x^14 (truncation below 0.1^15 / 15! = 8e-28).
+            const double x2 = x * x;
+            sh = x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 + x2 * (1.0 / 6227020800.0))))));
+            ch = 1.0 - 0.5 * x2 + x2 * x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 + x2 * (1.0 / 479001600.0 + x2 * (-1.0 / 87178291200.0))))));
+        } else {
+            sh = std::sin(x);
+            ch = std::cos(x);
+        }
+        const double sd = 2.0 * sh * ch, cd = 1.0 - 2.0 * sh * sh;
+        return {sh, sd, sin_[i] * ch + cos_[i] * sh, sin_[i] * cd + cos_[i] * sd, cos_[i] * cd - sin_[i] * sd};
+    }
+
+    /// linear_p: int (p_i + t x) sin(theta_i + x) dx over [0, d], written without cancellation:
+    /// p_i (cos theta_i - cos psi) + t (sin psi (1 - cos d) - cos psi (d - sin d)), with
+    /// cos theta_i - cos psi = 2 sin(theta_i + d/2) sin(d/2) and 1 - cos d = 2 sin^2(d/2).
+    double linear_p_mass(std::size_t i, double d, const SegmentAngles& a) const {
+        const double t = (p_[i + 1] - p_[i]) / width(i);
+        return two_pi * (p_[i] * 2.0 * a.sin_mid * a.sin_half +
+                         t * (a.sin_psi * 2.0 * a.sin_half * a.sin_half - a.cos_psi * detail::x_minus_sin(d, a.sin_d)));
     }
 
     /// Unnormalised density per sr at psi = acos(mu) in segment i. Where sin(psi) -> 0 (a
@@ -284,19 +318,29 @@ private:
         return newton_segment(i, m);
     }
 
-    /// Safeguarded Newton (bisection fallback) on segment_mass(i, d) = m, to 1e-12 of the width.
+    /// Safeguarded Halley iteration (bisection fallback) on segment_mass(i, d) = m, to 1e-12
+    /// of the width. It starts from the root for a density linear between the nodes' exact f
+    /// (the trapezoid inverse, off by O(width^2) here); the mass's first and second
+    /// derivatives, 2 pi (p_i + t d) sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come
+    /// with the mass from one sine and cosine of d/2.
     double newton_segment(std::size_t i, double m) const {
         const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
-        double lo = 0.0, hi = h, d = h * m / (cum_[i + 1] - cum_[i]);
+        const double den = f_[i] + std::sqrt(std::max(0.0, f_[i] * f_[i] + 2.0 * slope_[i] * m));
+        double lo = 0.0, hi = h, d = den > 0.0 ? std::clamp(2.0 * m / den, 0.0, h) : 0.5 * h;
         for (int iter = 0; iter < 200; ++iter) {
-            const double r = segment_mass(i, d) - m;
+            const SegmentAngles a = angles(i, d);
+            const double r = linear_p_mass(i, d, a) - m;
             (r > 0.0 ? hi : lo) = d;
-            const double dens = two_pi * (p_[i] + t * d) * std::sin(theta_[i] + d);
-            double next = dens > 0.0 ? d - r / dens : 0.5 * (lo + hi);
-            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-            const bool done = std::abs(next - d) <= 1e-12 * h;
-            d = next;
-            if (done || hi - lo <= 1e-12 * h) break;
+            const double p = p_[i] + t * d;
+            const double dens = two_pi * p * a.sin_psi, slope = two_pi * (t * a.sin_psi + p * a.cos_psi);
+            // Newton's step r / dens; Halley's divides it by 1 - q, q = r slope / (2 dens^2), used
+            // where the quadratic model holds (|q| <= 1/2). Done when Newton's step (the distance to
+            // the root, near it) is below 1e-12 of the width; steps leaving the bracket bisect.
+            const double newton = dens > 0.0 ? r / dens : hi - lo, q = dens > 0.0 ? 0.5 * newton * slope / dens : 1.0;
+            if (std::abs(newton) <= 1e-12 * h) return std::clamp(d - newton, 0.0, h);
+            d -= std::abs(q) <= 0.5 ? newton / (1.0 - q) : newton;
+            if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
+            if (hi - lo <= 1e-12 * h) break;
         }
         return d;
     }
@@ -305,6 +349,7 @@ private:
     double k_;
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
+    std::vector<double> sin_, cos_;            // sin and cos of the nodes (sin exactly 0 at 0 and pi)
     std::vector<double> slope_;                // per segment: f's slope (trapezoid)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
