@@ -138,6 +138,7 @@ public:
         require(std::isfinite(raw_) && raw_ > 0.0, "table integral", raw_,
                 "the table has no positive, finite integral under this convention");
         guide_ = detail::CumulativeGuide(cum_);
+        if (convention_ == TabulatedConvention::linear_p) tabulate_sub_nodes();
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -318,15 +319,39 @@ private:
         return newton_segment(i, m);
     }
 
+    /// linear_p: the exact mass and density at sub_nodes equal steps across each segment.
+    void tabulate_sub_nodes() {
+        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {
+            const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
+            for (int k = 0; k <= sub_nodes; ++k) {
+                const double x = k == sub_nodes ? h : h * k / sub_nodes;
+                sub_mass_.push_back(k == 0 ? 0.0 : linear_p_mass(i, x, angles(i, x)));
+                const double sin_psi = k == sub_nodes ? sin_[i + 1] : detail::sin_angle(theta_[i] + x);
+                sub_density_.push_back(two_pi * (p_[i] + t * x) * sin_psi);
+            }
+        }
+    }
+
+    /// linear_p: where the mass m is reached in segment i for a density linear between the
+    /// exact densities at the sub-nodes (off by O((width / sub_nodes)^2) of the width).
+    double first_guess(std::size_t i, double m) const {
+        const double* mass = &sub_mass_[i * (sub_nodes + 1)];
+        const double* f = &sub_density_[i * (sub_nodes + 1)];
+        int k = 0;
+        while (k + 1 < sub_nodes && mass[k + 1] <= m) ++k;
+        const double h = width(i), x0 = h * k / sub_nodes, x1 = k + 1 == sub_nodes ? h : h * (k + 1) / sub_nodes;
+        const double dm = m - mass[k], slope = (f[k + 1] - f[k]) / (x1 - x0);
+        const double den = f[k] + std::sqrt(std::max(0.0, f[k] * f[k] + 2.0 * slope * dm));
+        return den > 0.0 ? std::clamp(x0 + 2.0 * dm / den, x0, x1) : 0.5 * (x0 + x1);
+    }
+
     /// Safeguarded Halley iteration (bisection fallback) on segment_mass(i, d) = m, to 1e-12
-    /// of the width. It starts from the root for a density linear between the nodes' exact f
-    /// (the trapezoid inverse, off by O(width^2) here); the mass's first and second
+    /// of the width. It starts from first_guess; the mass's first and second
     /// derivatives, 2 pi (p_i + t d) sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come
     /// with the mass from one sine and cosine of d/2.
     double newton_segment(std::size_t i, double m) const {
         const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
-        const double den = f_[i] + std::sqrt(std::max(0.0, f_[i] * f_[i] + 2.0 * slope_[i] * m));
-        double lo = 0.0, hi = h, d = den > 0.0 ? std::clamp(2.0 * m / den, 0.0, h) : 0.5 * h;
+        double lo = 0.0, hi = h, d = first_guess(i, m);
         for (int iter = 0; iter < 200; ++iter) {
             const SegmentAngles a = angles(i, d);
             const double r = linear_p_mass(i, d, a) - m;
@@ -350,6 +375,8 @@ private:
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
     std::vector<double> sin_, cos_;            // sin and cos of the nodes (sin exactly 0 at 0 and pi)
+    static constexpr int sub_nodes = 8;        // linear_p: sub-segments per segment for first_guess
+    std::vector<double> sub_mass_, sub_density_;  // linear_p: mass below and density at each sub-node
     std::vector<double> slope_;                // per segment: f's slope (trapezoid)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
