@@ -249,6 +249,45 @@ TEST_CASE("A tabulated phase function's inverse CDF in lanes is sample_direction
     }
 }
 
+// Random linear_p tables, segments narrower than 0.2 rad (the vector root) or up to 180 deg
+// wide (lane by lane through sample_direction), nodes at 0 and 180 deg or not: the lanes' root
+// is sample_direction's, to cos's rounding, at random uniforms and at every node's own u.
+TEST_CASE("A random linear-p table's inverse CDF in lanes is sample_direction's, to cos's rounding") {
+    PhotonRng rng(17, 0);
+    double worst = 0;
+    int vector_tables = 0;
+    for (int table = 0; table < 200; ++table) {
+        const bool narrow = table % 2 == 0;
+        std::vector<double> angle;
+        if (narrow) {
+            for (double a = rng.uniform() < 0.5 ? 0.0 : 5.0 * rng.uniform(); a < 180.0; a += 0.01 + 11.0 * rng.uniform())
+                angle.push_back(a);
+            if (rng.uniform() < 0.5) angle.push_back(180.0);
+        } else {
+            for (int k = 0; k < 2 + static_cast<int>(rng.uniform() * 6); ++k) angle.push_back(180.0 * rng.uniform());
+            std::sort(angle.begin(), angle.end());
+            angle.erase(std::unique(angle.begin(), angle.end()), angle.end());
+            if (angle.size() < 2) continue;
+        }
+        std::vector<double> value;
+        for (std::size_t k = 0; k < angle.size(); ++k) value.push_back(std::pow(10.0, 6.0 * rng.uniform() - 3.0));
+        const TabulatedPhase phase(angle, value, TabulatedConvention::linear_p);
+        std::vector<double> u;
+        for (int k = 0; k < 256; ++k) u.push_back(rng.uniform());
+        for (double node : phase.breakpoints()) u.push_back(std::min(phase.cumulative(node), std::nextafter(1.0, 0.0)));
+        while (u.size() % lane_width) u.push_back(0.5);
+        for (std::size_t i = 0; i < u.size(); i += lane_width) {
+            const Reals mu = phase.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
+            for (int l = 0; l < lane_width; ++l)
+                worst = std::max(worst, std::abs(mu[l] - phase.sample_direction(u[i + l], 0.5).cos_psi));
+        }
+        vector_tables += narrow ? 1 : 0;
+    }
+    INFO("worst " << worst);
+    CHECK(vector_tables == 100);
+    CHECK(worst <= 4.5e-16);
+}
+
 namespace {
 /// The largest |f(x) - reference(x)| of a function in lanes (of V) over x = i / 2^20 in [0, 1].
 template <class V = Reals, class F, class Reference>

@@ -29,11 +29,13 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
+#include "secchi/core/math.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
 namespace secchi::SECCHI_ISA {
@@ -139,6 +141,7 @@ public:
                 "the table has no positive, finite integral under this convention");
         guide_ = detail::CumulativeGuide(cum_);
         if (convention_ == TabulatedConvention::linear_p) tabulate_sub_nodes();
+        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) narrow_segments_ = narrow_segments_ && width(i) < 0.2;
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -177,26 +180,31 @@ public:
 
 #if SECCHI_HAS_LANES
     /// sample_direction's cos psi for a vector of uniforms u1 (photons in double lanes,
-    /// transport/lane_tracer.hpp). With the trapezoid convention the segment search (the
-    /// guide's scan) and the segment's root run in the vectors, with the same operations as
-    /// sample_direction, and so does the power law below the first node (by log and exp);
-    /// every lane of a linear-p table (Newton per segment) goes through sample_direction one
-    /// by one. cos psi by sin_cos rather than std::cos: within a few ulp of sample_direction
+    /// transport/lane_tracer.hpp). The segment search (the guide's scan) and the segment's
+    /// root run in the vectors, with the same operations as sample_direction, and so does the
+    /// power law below the first node (by log and exp); a linear_p table with a segment wider
+    /// than 0.2 rad (beyond angles()' series) goes through sample_direction lane by lane.
+    /// cos psi by sin_cos rather than std::cos: within a few ulp of sample_direction
     /// (tests/test_lane_tracer.cpp).
     template <class Lanes>
         requires std::same_as<Lanes, lanes::Reals>
     Lanes cos_psi(const Lanes& u1) const {
         using lanes::Reals, lanes::lookup, lanes::stdx::max, lanes::stdx::min;
-        if (convention_ != TabulatedConvention::trapezoid)
+        if (convention_ == TabulatedConvention::linear_p && !narrow_segments_)
             return Reals([&](auto l) { return sample_direction(u1[l], 0.0).cos_psi; });
         const Reals target = u1 * raw_;
-        // invert_segment's trapezoid root: f_i d + s d^2 / 2 = m, d = 2 m / (f_i + sqrt(f_i^2 + 2 s m)).
         const Reals i = guide_.find(cum_, u1, target);
         const Reals theta = lookup(theta_, i), theta_next = lookup(theta_, i + 1.0);
-        const Reals f = lookup(f_, i), slope = lookup(slope_, i), w = theta_next - theta;  // width(i)
         const Reals m = target - lookup(cum_, i);
-        const Reals den = f + lanes::stdx::sqrt(max(Reals(0.0), f * f + 2.0 * slope * m));
-        const Reals d = select(den > 0.0, min(max(2.0 * m / den, Reals(0.0)), w), Reals(0.0));
+        Reals d;
+        if (convention_ == TabulatedConvention::trapezoid) {
+            // invert_segment's trapezoid root: f_i d + s d^2 / 2 = m, d = 2 m / (f_i + sqrt(f_i^2 + 2 s m)).
+            const Reals f = lookup(f_, i), slope = lookup(slope_, i), w = theta_next - theta;  // width(i)
+            const Reals den = f + lanes::stdx::sqrt(max(Reals(0.0), f * f + 2.0 * slope * m));
+            d = select(den > 0.0, min(max(2.0 * m / den, Reals(0.0)), w), Reals(0.0));
+        } else {
+            d = newton_segment_lanes(i, m);
+        }
         Reals psi = min(theta + d, theta_next);
         if (const auto power = target < cum_[0]; any_of(power)) {
             // The power law below the first node: psi = theta_0 (target / cum_0)^(1 / (2 - k)), as
@@ -268,33 +276,66 @@ private:
     }
 
     /// sin(d/2), sin d and the sines and cosines of theta_i + d/2 and psi = theta_i + d, from
-    /// one sine and cosine of d/2 and the node's own (angle addition).
+    /// one sine and cosine of d/2 and the node's own, sin_i and cos_i (angle addition). For a
+    /// double, or a vector of them (photons in lanes: there every d/2 must lie below 0.1).
+    template <class Real>
     struct SegmentAngles {
-        double sin_half, sin_d, sin_mid, sin_psi, cos_psi;
+        Real sin_half, sin_d, sin_mid, sin_psi, cos_psi;
     };
-    SegmentAngles angles(std::size_t i, double d) const {
-        const double x = 0.5 * d;
-        double sh, ch;
-        if (x < 0.1) {
-            // Taylor series on [0, 0.1): sin to x^13, cos to x^14 (truncation below 0.1^15 / 15! = 8e-28).
-            const double x2 = x * x;
-            sh = x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 + x2 * (1.0 / 6227020800.0))))));
-            ch = 1.0 - 0.5 * x2 + x2 * x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 + x2 * (1.0 / 479001600.0 + x2 * (-1.0 / 87178291200.0))))));
+    template <class Real>
+    static SegmentAngles<Real> angles(const Real& sin_i, const Real& cos_i, const Real& d) {
+        const Real x = 0.5 * d, x2 = x * x;
+        // Taylor series on [0, 0.1): sin to x^13, cos to x^14 (truncation below 0.1^15 / 15! = 8e-28).
+        const auto series = [&] {
+            return std::pair{x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800 + x2 * (1.0 / 6227020800.0)))))),
+                             1.0 - 0.5 * x2 + x2 * x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 + x2 * (1.0 / 479001600.0 + x2 * (-1.0 / 87178291200.0))))))};
+        };
+        Real sh, ch;
+        if constexpr (std::is_floating_point_v<Real>) {
+            if (x < 0.1) {
+                std::tie(sh, ch) = series();
+            } else {
+                sh = std::sin(x);
+                ch = std::cos(x);
+            }
         } else {
-            sh = std::sin(x);
-            ch = std::cos(x);
+            std::tie(sh, ch) = series();
         }
-        const double sd = 2.0 * sh * ch, cd = 1.0 - 2.0 * sh * sh;
-        return {sh, sd, sin_[i] * ch + cos_[i] * sh, sin_[i] * cd + cos_[i] * sd, cos_[i] * cd - sin_[i] * sd};
+        const Real sd = 2.0 * sh * ch, cd = 1.0 - 2.0 * sh * sh;
+        return {sh, sd, sin_i * ch + cos_i * sh, sin_i * cd + cos_i * sd, cos_i * cd - sin_i * sd};
     }
+    SegmentAngles<double> angles(std::size_t i, double d) const { return angles(sin_[i], cos_[i], d); }
 
     /// linear_p: int (p_i + t x) sin(theta_i + x) dx over [0, d], written without cancellation:
     /// p_i (cos theta_i - cos psi) + t (sin psi (1 - cos d) - cos psi (d - sin d)), with
     /// cos theta_i - cos psi = 2 sin(theta_i + d/2) sin(d/2) and 1 - cos d = 2 sin^2(d/2).
-    double linear_p_mass(std::size_t i, double d, const SegmentAngles& a) const {
-        const double t = (p_[i + 1] - p_[i]) / width(i);
-        return two_pi * (p_[i] * 2.0 * a.sin_mid * a.sin_half +
-                         t * (a.sin_psi * 2.0 * a.sin_half * a.sin_half - a.cos_psi * detail::x_minus_sin(d, a.sin_d)));
+    template <class Real>
+    static Real linear_p_mass(const Real& p_i, const Real& t, const Real& d, const SegmentAngles<Real>& a) {
+        Real x_minus_sin;
+        if constexpr (std::is_floating_point_v<Real>) {
+            x_minus_sin = detail::x_minus_sin(d, a.sin_d);
+        } else {
+            const Real d2 = d * d;
+            x_minus_sin = select(abs(d) < 1e-2, d * d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))),
+                                 d - a.sin_d);
+        }
+        return two_pi * (p_i * 2.0 * a.sin_mid * a.sin_half + t * (a.sin_psi * 2.0 * a.sin_half * a.sin_half - a.cos_psi * x_minus_sin));
+    }
+    double linear_p_mass(std::size_t i, double d, const SegmentAngles<double>& a) const {
+        return linear_p_mass(p_[i], (p_[i + 1] - p_[i]) / width(i), d, a);
+    }
+
+    /// Newton's step r / dens toward the root of mass - m (r: the residual, dens and slope: the
+    /// mass's first and second derivatives), and Halley's, which divides it by 1 - q, q = r
+    /// slope / (2 dens^2), used where the quadratic model holds (|q| <= 1/2). Where dens <= 0
+    /// Newton's step is hi - lo (never taken as converged) and Halley's leaves the bracket.
+    template <class Real>
+    static std::pair<Real, Real> halley_step(const Real& r, const Real& dens, const Real& slope, const Real& bracket) {
+        using std::abs;
+        const auto positive = dens > 0.0;
+        const Real newton = select(positive, r / dens, bracket);
+        const Real q = select(positive, 0.5 * newton * slope / dens, Real(1.0));
+        return {newton, select(abs(q) <= 0.5, newton / (1.0 - q), newton)};
     }
 
     /// Unnormalised density per sr at psi = acos(mu) in segment i. Where sin(psi) -> 0 (a
@@ -353,22 +394,65 @@ private:
         const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
         double lo = 0.0, hi = h, d = first_guess(i, m);
         for (int iter = 0; iter < 200; ++iter) {
-            const SegmentAngles a = angles(i, d);
+            const SegmentAngles<double> a = angles(i, d);
             const double r = linear_p_mass(i, d, a) - m;
             (r > 0.0 ? hi : lo) = d;
             const double p = p_[i] + t * d;
-            const double dens = two_pi * p * a.sin_psi, slope = two_pi * (t * a.sin_psi + p * a.cos_psi);
-            // Newton's step r / dens; Halley's divides it by 1 - q, q = r slope / (2 dens^2), used
-            // where the quadratic model holds (|q| <= 1/2). Done when Newton's step (the distance to
-            // the root, near it) is below 1e-12 of the width; steps leaving the bracket bisect.
-            const double newton = dens > 0.0 ? r / dens : hi - lo, q = dens > 0.0 ? 0.5 * newton * slope / dens : 1.0;
+            const auto [newton, step] = halley_step(r, two_pi * p * a.sin_psi, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
+            // Done when Newton's step (near the root, the distance to it) is below 1e-12 of the
+            // width; steps leaving the bracket bisect.
             if (std::abs(newton) <= 1e-12 * h) return std::clamp(d - newton, 0.0, h);
-            d -= std::abs(q) <= 0.5 ? newton / (1.0 - q) : newton;
+            d -= step;
             if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
             if (hi - lo <= 1e-12 * h) break;
         }
         return d;
     }
+
+#if SECCHI_HAS_LANES
+    /// newton_segment per lane (segment indices i as doubles): the same first guess and the
+    /// same safeguarded Halley steps, a lane keeping its root from the step at which its own
+    /// iteration ends. Needs narrow_segments_ (angles()' series).
+    lanes::Reals newton_segment_lanes(const lanes::Reals& i, const lanes::Reals& m) const {
+        using lanes::Reals, lanes::lookup, lanes::stdx::max, lanes::stdx::min;
+        const Reals theta = lookup(theta_, i), h = lookup(theta_, i + 1.0) - theta;
+        const Reals p_i = lookup(p_, i), t = (lookup(p_, i + 1.0) - p_i) / h;
+        const Reals sin_i = lookup(sin_, i), cos_i = lookup(cos_, i);
+        // first_guess: the sub-node below m (a forward scan, lane by lane's own end), then the
+        // root for a density linear between the sub-nodes.
+        const Reals base = i * double(sub_nodes + 1);
+        Reals k(0.0);
+        for (auto more = k + 1.0 < sub_nodes && lookup(sub_mass_, base + k + 1.0) <= m; any_of(more);
+             more = k + 1.0 < sub_nodes && lookup(sub_mass_, base + k + 1.0) <= m)
+            where(more, k) += 1.0;
+        const Reals x0 = h * k / double(sub_nodes), x1 = select(k + 1.0 == sub_nodes, h, h * (k + 1.0) / double(sub_nodes));
+        const Reals f0 = lookup(sub_density_, base + k), f1 = lookup(sub_density_, base + k + 1.0);
+        const Reals dm = m - lookup(sub_mass_, base + k), slope0 = (f1 - f0) / (x1 - x0);
+        const Reals den = f0 + lanes::stdx::sqrt(max(Reals(0.0), f0 * f0 + 2.0 * slope0 * dm));
+        Reals d = select(den > 0.0, min(max(x0 + 2.0 * dm / den, x0), x1), 0.5 * (x0 + x1));
+        Reals lo(0.0), hi = h, root = d;
+        auto open = d == d;  // lanes still iterating
+        for (int iter = 0; iter < 200 && any_of(open); ++iter) {
+            const SegmentAngles<Reals> a = angles(sin_i, cos_i, d);
+            const Reals r = linear_p_mass(p_i, t, d, a) - m;
+            where(open && r > 0.0, hi) = d;
+            where(open && !(r > 0.0), lo) = d;
+            const Reals p = p_i + t * d;
+            const auto [newton, step] = halley_step(r, two_pi * p * a.sin_psi, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
+            const auto converged = open && abs(newton) <= 1e-12 * h;
+            where(converged, root) = min(max(d - newton, Reals(0.0)), h);
+            open = open && !converged;
+            Reals next = d - step;
+            where(!(next > lo && next < hi), next) = 0.5 * (lo + hi);
+            where(open, d) = next;
+            const auto bisected = open && hi - lo <= 1e-12 * h;
+            where(bisected, root) = d;
+            open = open && !bisected;
+        }
+        where(open, root) = d;
+        return root;
+    }
+#endif
 
     TabulatedConvention convention_;
     double k_;
@@ -377,6 +461,7 @@ private:
     std::vector<double> sin_, cos_;            // sin and cos of the nodes (sin exactly 0 at 0 and pi)
     static constexpr int sub_nodes = 8;        // linear_p: sub-segments per segment for first_guess
     std::vector<double> sub_mass_, sub_density_;  // linear_p: mass below and density at each sub-node
+    bool narrow_segments_ = true;                 // every segment narrower than 0.2 rad
     std::vector<double> slope_;                // per segment: f's slope (trapezoid)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
