@@ -25,9 +25,63 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 namespace secchi::SECCHI_ISA {
+
+/// Backscatter bias, a directional importance for the light going back (up, for the
+/// downwelling light; Spanier & Gelbard 1969, importance sampling of the collision kernel): a
+/// share eps of the scattering events draws its angle from the phase function's backward part
+/// only, so that more photons turn back than the phase function alone sends, and the light
+/// going up at depth (Eu, Eou, the map's upwelling events) is carried by more photons.
+/// The phase function samples by a monotone inverse CDF, and the uniforms [a, b) of it
+/// scatter backward (b - a = B, the backward fraction: backward_uniforms()). The biased draw is
+/// importance sampling of that uniform: its density is q(v) = (1 - eps) + eps 1[a <= v < b] / B
+/// instead of 1, and the photon's weight is multiplied by 1 / q(v): 1 / (1 - eps) for the
+/// forward draws, 1 / (1 - eps + eps / B) for the backward ones. Every expectation is unchanged
+/// whatever eps and [a, b). One uniform u serves both choices: u < eps picks the backward
+/// part, with u / eps its uniform mapped onto [a, b); otherwise (u - eps) / (1 - eps).
+class BackscatterBias {
+public:
+    BackscatterBias() = default;  ///< off: draw(u) = {u, 1}
+    /// share: eps in [0, 1); [begin, end): the backward uniforms, 0 <= begin < end <= 1.
+    BackscatterBias(double share, double begin, double end) : share_(share), begin_(begin), end_(end) {
+        require(std::isfinite(share) && share >= 0.0 && share < 1.0, "backscatter bias", share, "must be in [0, 1) (0 = off)");
+        require(begin >= 0.0 && end <= 1.0 && end > begin, "backward fraction of the phase function", end - begin,
+                "must be positive: the phase function sends nothing backward");
+        forward_weight_ = 1.0 / (1.0 - share);
+        backward_weight_ = 1.0 / (1.0 - share + share / (end - begin));
+    }
+
+    [[nodiscard]] bool enabled() const { return share_ > 0.0; }
+
+    struct Draw {
+        double u;       ///< the uniform for the phase function's inverse CDF
+        double weight;  ///< the factor on the photon's weight, 1 / q(u)
+    };
+    [[nodiscard]] Draw draw(double u) const {
+        if (share_ == 0.0) return {u, 1.0};
+        const double v = u < share_ ? std::min(begin_ + (end_ - begin_) * (u / share_), std::nextafter(end_, 0.0))
+                                    : (u - share_) / (1.0 - share_);
+        return {v, v >= begin_ && v < end_ ? backward_weight_ : forward_weight_};
+    }
+
+private:
+    double share_ = 0.0, begin_ = 0.0, end_ = 1.0;
+    double forward_weight_ = 1.0, backward_weight_ = 1.0;
+};
+
+/// A phase function that names the uniforms of its inverse CDF that scatter backward.
+template <class P>
+concept BackwardUniforms = requires(const P& p) {
+    { p.backward_uniforms() } -> std::convertible_to<std::pair<double, double>>;
+};
+
+/// A medium whose scattering angles the backscatter bias can draw: depth-independent, its
+/// phase function naming its backward uniforms.
+template <class M>
+concept BackscatterBiasable = depth_independent<M> && BackwardUniforms<typename M::phase_type>;
 
 struct DepthImportance {
     double cosine = 0.0;     ///< mu_i; 0 = off

@@ -111,6 +111,8 @@ private:
         require(!s.importance.enabled(), "depth importance (cosine)", s.importance.cosine,
                 "LaneTracer does not split photons by depth; use PhotonTracer");
         require(!s.surface_map, "surface map", "on", "is not kept by LaneTracer; use PhotonTracer");
+        require(s.backscatter_bias == 0.0, "backscatter bias", s.backscatter_bias,
+                "is not drawn by LaneTracer; use PhotonTracer");
         return s;
     }
 

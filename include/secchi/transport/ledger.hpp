@@ -23,8 +23,8 @@ struct EnergyLedger {
     double absorbed_objects = 0;   ///< absorbed by objects in the water (scene/geometry.hpp)
     double transmitted = 0;        ///< left through the bottom of a finite slab, or below the escape depth
     double truncated = 0;          ///< stopped by the scattering-order limit (manual 3.3.8)
-    double roulette_killed = 0;    ///< weight removed by Russian roulette
-    double roulette_gained = 0;    ///< weight added to roulette survivors
+    double roulette_killed = 0;    ///< weight removed by Russian roulette (and by backscatter bias's weights below 1)
+    double roulette_gained = 0;    ///< weight added to roulette survivors (and by backscatter bias's weights above 1)
 
     static constexpr std::size_t accounts = 12;  ///< the number of accounts
 

@@ -72,6 +72,9 @@ struct TransportSettings {
     unsigned max_order = 0;
     std::uint64_t block_size = 4096;    ///< photons per work unit (does not change results)
     DepthImportance importance;         ///< depth splitting (importance.hpp); off by default
+    /// The share of scattering events whose angle is drawn from the phase function's backward
+    /// part, their weights corrected (importance.hpp, BackscatterBias); 0 = off (the default).
+    double backscatter_bias = 0.0;
 
     void validate() const {
         require(photons > 0, "photons", photons, "must be > 0");
@@ -88,6 +91,8 @@ struct TransportSettings {
         require(bottom_bins <= 4096, "bottom bins", bottom_bins, "must be <= 4096 per side");
         for (double z : depths) require(z >= 0.0, "detector depth", z, "must be >= 0");
         importance.validate();
+        require(std::isfinite(backscatter_bias) && backscatter_bias >= 0.0 && backscatter_bias < 1.0, "backscatter bias",
+                backscatter_bias, "must be in [0, 1) (0 = off)");
     }
 };
 

@@ -164,7 +164,8 @@ public:
           geometry_(checked_geometry(std::move(geometry), slab, surface)), grid_(s_.bottom_bins, slab.width()),
           detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           physics_(s_, slab.floor_depth(), surface_top(surface)), importance_on_(s_.importance.enabled()),
-          levels_(s_.importance, medium), w0_(albedo_at(medium, 0.0)), sun_direction_(source.beam_direction()),
+          levels_(s_.importance, medium), bias_(backscatter_bias(medium, s_)), w0_(albedo_at(medium, 0.0)),
+          sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
         if constexpr (wavy) check_wave(surface, slab, source, s_);
         if (!std::isfinite(slab.floor_depth())) {
@@ -696,9 +697,28 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         if (slot.stores) store_event(p, rng, out, slot.batch);
         ++p.order;
         const double u_psi = rng.uniform(), u_phi = rng.uniform();
-        const ScatteringAngles<double> angles = EventPhysics::angles(medium_, p.pos.z, u_psi, u_phi);
+        const BackscatterBias::Draw draw = bias_.draw(u_psi);
+        const ScatteringAngles<double> angles = EventPhysics::angles(medium_, p.pos.z, draw.u, u_phi);
         p.dir = rotate_direction(p.dir, angles.cos_psi, angles.phi);
+        if (draw.weight != 1.0) {  // the biased draw's weight 1 / q (importance.hpp), booked as roulette's
+            const double w = p.w * draw.weight;
+            (w > p.w ? out.ledger.roulette_gained : out.ledger.roulette_killed) += std::abs(w - p.w);
+            p.w = w;
+        }
         return roulette(p, rng, out.ledger);
+    }
+
+    /// The settings' backscatter bias (importance.hpp) for a depth-independent medium whose
+    /// phase function names its backward uniforms; refused for any other.
+    static BackscatterBias backscatter_bias(const M& medium, const TransportSettings& s) {
+        if (s.backscatter_bias == 0.0) return {};
+        if constexpr (BackscatterBiasable<M>) {
+            const auto [begin, end] = medium.phase().backward_uniforms();
+            return BackscatterBias(s.backscatter_bias, begin, end);
+        } else {
+            reject("backscatter bias", s.backscatter_bias,
+                   "needs homogeneous water whose phase function names its backward uniforms (Henyey-Greenstein, a table)");
+        }
     }
 
     /// Stores the scattering event by the equal-flux rule (EventPhysics::keeps). With depth
@@ -809,6 +829,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     EventPhysics physics_;  ///< the per-event rules of the settings
     bool importance_on_;
     ImportanceLevels levels_;
+    BackscatterBias bias_;  ///< the scattering angle's biased draw (off by default)
     double w0_;  ///< the albedo of a depth-independent medium
     vec3 sun_direction_;                 ///< of the photons of the source's collimated beam
     std::optional<SurfaceHit> sun_hit_;  ///< their hit, where it is the same for all (a flat surface)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "secchi/core/error.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
@@ -48,6 +49,13 @@ public:
         const Real num = s + T(0.5) * g * (T(3) + s * s) + g * g * s + T(0.5) * g * g * g * (s * s - T(1));
         const Real den = (T(1) + g * s) * (T(1) + g * s);
         return min(max(num / den, Real(T(-1))), Real(T(1)));  // std::clamp(num / den, -1, 1)
+    }
+
+    /// The uniforms u1 whose cos_psi is negative (backward): [0, u_0), u_0 = P(mu < 0) =
+    /// (1 - g^2) / (2 g) (1 / sqrt(1 + g^2) - 1 / (1 + g)) (the CDF of mu; 1/2 at g = 0).
+    std::pair<double, double> backward_uniforms() const {
+        if (std::abs(g_) < 1e-6) return {0.0, 0.5};
+        return {0.0, (1.0 - g_ * g_) / (2.0 * g_) * (1.0 / std::sqrt(1.0 + g_ * g_) - 1.0 / (1.0 + g_))};
     }
 
     double g() const { return g_; }

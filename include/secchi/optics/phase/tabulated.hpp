@@ -228,6 +228,9 @@ public:
         return (cum_[i] + segment_mass(i, std::min(psi, pi) - theta_[i])) / raw_;
     }
 
+    /// The uniforms u1 whose sample_direction scatters backward (psi > 90 deg): [F(90 deg), 1).
+    std::pair<double, double> backward_uniforms() const { return {cumulative(0.5 * pi), 1.0}; }
+
     /// 2 pi int p sin dpsi of the table as given, before normalisation (M93: 1.002 for Petzold).
     double raw_integral() const { return raw_; }
     /// The node angles (radians, including an added 180 deg node): kinks of the density.

@@ -1,0 +1,130 @@
+// Backscatter bias (transport/importance.hpp, BackscatterBias): importance sampling of the
+// uniform that the phase function's inverse CDF turns into a scattering angle. Checked here:
+// the weights' mean is 1 exactly, the weighted angles follow the phase function (Petzold and
+// Henyey-Greenstein), the phase functions' backward uniforms are the ones that scatter backward,
+// and the tracers refuse what they cannot do. The first pass with it is checked against the
+// exact (DISORT) irradiances in test_exact_references.cpp.
+#include <catch2/catch.hpp>
+
+#include "secchi/core/rng.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/optics/phase/petzold.hpp"
+#include "secchi/transport/lane_tracer.hpp"
+#include "secchi/transport/tracer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+using namespace secchi;
+
+TEST_CASE("backscatter bias: off is the identity, and the weights average to 1 exactly") {
+    const BackscatterBias off;
+    CHECK_FALSE(off.enabled());
+    for (double u : {0.0, 0.3, 0.999}) {
+        CHECK(off.draw(u).u == u);
+        CHECK(off.draw(u).weight == 1.0);
+    }
+    // Over a midpoint grid of u the draw is piecewise constant in weight: the mean of the
+    // weights is eps w_b + (1 - eps)(B w_b + (1 - B) w_f) = 1 (importance.hpp).
+    for (const auto& [eps, a, b] : std::vector<std::array<double, 3>>{{0.1, 0.98, 1.0}, {0.3, 0.0, 0.25}, {0.5, 0.4, 0.7}}) {
+        const BackscatterBias bias(eps, a, b);
+        const int n = 1 << 20;
+        double sum = 0.0, backward = 0.0;
+        int outside = 0;
+        for (int k = 0; k < n; ++k) {
+            const BackscatterBias::Draw d = bias.draw((k + 0.5) / n);
+            outside += d.u >= 0.0 && d.u < 1.0 ? 0 : 1;
+            sum += d.weight;
+            backward += d.u >= a && d.u < b ? 1.0 : 0.0;
+        }
+        INFO("eps " << eps << " [" << a << ", " << b << ")");
+        CHECK(outside == 0);
+        CHECK(sum / n == Approx(1.0).epsilon(1e-5));  // the grid's steps at the branch edges: O(1/n)
+        CHECK(backward / n == Approx(eps + (1.0 - eps) * (b - a)).epsilon(1e-5));
+    }
+    CHECK_THROWS_WITH(BackscatterBias(1.0, 0.9, 1.0), Catch::Contains("backscatter bias"));
+    CHECK_THROWS_WITH(BackscatterBias(0.2, 0.5, 0.5), Catch::Contains("backward fraction"));
+}
+
+TEST_CASE("backward uniforms: the inverse CDF scatters backward exactly there") {
+    const TabulatedPhase petzold = petzold_m93();
+    const auto [a, b] = petzold.backward_uniforms();
+    CHECK(b == 1.0);
+    // B = 2 pi int_{-1}^{0} p dmu by the midpoint rule on eval (independent of cumulative()).
+    double quadrature = 0.0;
+    const int steps = 200'000;
+    for (int k = 0; k < steps; ++k) quadrature += two_pi * petzold.eval(-1.0 + (k + 0.5) / steps) / steps;
+    CHECK(1.0 - a == Approx(quadrature).epsilon(1e-6));
+    CHECK(petzold.sample_direction(std::nextafter(a, 0.0), 0.0).cos_psi > -1e-12);
+    CHECK(petzold.sample_direction(a + 1e-9, 0.0).cos_psi < 0.0);
+    for (double g : {-0.5, 0.0, 0.3, 0.9}) {
+        const HenyeyGreensteinPhase hg(g);
+        const auto [lo, hi] = hg.backward_uniforms();
+        INFO("g " << g << ": [" << lo << ", " << hi << ")");
+        CHECK(lo == 0.0);
+        CHECK(hg.cos_psi(0.5 * hi) < 0.0);
+        CHECK(hg.cos_psi(hi - 1e-6) < 0.0);
+        CHECK(hg.cos_psi(hi + 1e-6) > 0.0);
+    }
+}
+
+TEST_CASE("backscatter bias: the weighted angles follow the phase function") {
+    // Weighted histogram of psi in 36 bins of 5 deg: each bin's weighted frequency against the
+    // exact probability (TabulatedPhase::cumulative; HG's CDF of mu), within 4 SE of the
+    // weighted mean (tolerance fixed before the runs).
+    const int n = 400'000, bins = 36;
+    const auto check = [&](const auto& phase, const auto& probability, double eps) {
+        const auto [a, b] = phase.backward_uniforms();
+        const BackscatterBias bias(eps, a, b);
+        PhotonRng rng(23, 0);
+        std::vector<double> s1(bins), s2(bins);
+        for (int k = 0; k < n; ++k) {
+            const BackscatterBias::Draw d = bias.draw(rng.uniform());
+            const double psi = std::acos(std::clamp(phase.sample_direction(d.u, 0.0).cos_psi, -1.0, 1.0));
+            const int bin = std::min(bins - 1, static_cast<int>(psi / pi * bins));
+            s1[bin] += d.weight;
+            s2[bin] += d.weight * d.weight;
+        }
+        int far = 0;
+        for (int i = 0; i < bins; ++i) {
+            const double mean = s1[i] / n, se = std::sqrt(std::max(s2[i] / n - mean * mean, 0.0) / n);
+            const double exact = probability(i * pi / bins, (i + 1) * pi / bins);
+            INFO("bin " << i << ": " << mean << " +- " << se << " exact " << exact);
+            CHECK(std::abs(mean - exact) <= 4.0 * se + 1e-12);
+            far += std::abs(mean - exact) > 4.0 * se + 1e-12 ? 1 : 0;
+        }
+        CHECK(far == 0);
+    };
+    const TabulatedPhase petzold = petzold_m93();
+    check(petzold, [&](double lo, double hi) { return petzold.cumulative(hi) - petzold.cumulative(lo); }, 0.2);
+    const double g = 0.9;
+    const HenyeyGreensteinPhase hg(g);
+    // P(mu <= x) = (1 - g^2) / (2 g) (1 / sqrt(1 + g^2 - 2 g x) - 1 / (1 + g)).
+    const auto cdf_mu = [g](double x) { return (1.0 - g * g) / (2.0 * g) * (1.0 / std::sqrt(1.0 + g * g - 2.0 * g * x) - 1.0 / (1.0 + g)); };
+    check(hg, [&](double lo, double hi) { return cdf_mu(std::cos(lo)) - cdf_mu(std::cos(hi)); }, 0.3);
+}
+
+TEST_CASE("backscatter bias: refused where it cannot be drawn") {
+    TransportSettings s;
+    s.photons = 1000;
+    s.depths = {1.0};
+    s.backscatter_bias = 1.0;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("backscatter bias"));
+    s.backscatter_bias = 0.2;
+    using HgWater = HomogeneousWater<HenyeyGreensteinPhase>;
+    const auto water = HgWater::from_albedo(1.0, 0.2, HenyeyGreensteinPhase(0.9));
+    const Slab slab(1.0, Bottom{}, 30.0);
+    CHECK_NOTHROW(PhotonTracer<HgWater, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s));
+    // Isotropic scattering names no backward uniforms (nothing to gain from it either).
+    using IsoWater = HomogeneousWater<IsotropicPhase>;
+    const auto iso = IsoWater::from_albedo(1.0, 0.2, IsotropicPhase{});
+    CHECK_THROWS_WITH((PhotonTracer<IsoWater, CompactRecord>(iso, slab, FlatSurface(1.34), CollimatedSun(30.0), s)),
+                      Catch::Contains("backscatter bias"));
+#if SECCHI_HAS_LANES
+    CHECK_THROWS_WITH((LaneTracer<HgWater, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s)),
+                      Catch::Contains("backscatter bias"));
+#endif
+}
