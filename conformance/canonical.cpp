@@ -227,6 +227,11 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     // LaneTracer for the homogeneous problems without depth importance; the others (1b, 2b and
     // problem 3's stratified water) are PhotonTracer's.
     if (p.id != "3" && !t.importance.enabled()) cfg.tracer = parse_tracer(cl.text("tracer", "photon"));
+    // The backscatter bias needs PhotonTracer in homogeneous water whose phase function names
+    // its backward uniforms (the Petzold tables here): checked before any problem runs.
+    if (t.backscatter_bias > 0.0 && (p.id == "3" || p.phase != "petzold" || cfg.tracer != TracerKind::photon))
+        reject("--backscatter-bias", cl.text("backscatter-bias"),
+               "problem " + p.id + " cannot take it (PhotonTracer in Petzold water only: problems 2a, 2b, 4, 5, 6)");
     cfg.keep_map = p.id == "2a";
     return cfg;
 }

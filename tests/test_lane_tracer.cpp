@@ -11,6 +11,7 @@
 #include "transport_checks.hpp"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <numbers>
 #include <vector>
@@ -250,9 +251,14 @@ TEST_CASE("A tabulated phase function's inverse CDF in lanes is sample_direction
 }
 
 // Random linear_p tables, segments narrower than 0.2 rad (the vector root) or up to 180 deg
-// wide (lane by lane through sample_direction), nodes at 0 and 180 deg or not: the lanes' root
-// is sample_direction's, to cos's rounding, at random uniforms and at every node's own u.
-TEST_CASE("A random linear-p table's inverse CDF in lanes is sample_direction's, to cos's rounding") {
+// wide (lane by lane through sample_direction), nodes at 0 and 180 deg or not, at random
+// uniforms and at every node's own u. Both roots stop within 1e-12 of the segment's width of
+// the root of their own rounded residual; with FMA contracted differently in the vectors (a
+// -march=native build) the residuals differ by rounding, a few ulp of the cumulative
+// probability (<= 1), which moves the root by that over the normalised density f = 2 pi p sin
+// psi: with the values over six decades f can be small. So the lanes' cos psi lies within
+// cos's rounding (4.5e-16) + sin psi (2e-12 x 0.2 + 16 eps / f) of sample_direction's.
+TEST_CASE("A random linear-p table's inverse CDF in lanes is sample_direction's, to the root's accuracy") {
     PhotonRng rng(17, 0);
     double worst = 0;
     int vector_tables = 0;
@@ -278,14 +284,20 @@ TEST_CASE("A random linear-p table's inverse CDF in lanes is sample_direction's,
         while (u.size() % lane_width) u.push_back(0.5);
         for (std::size_t i = 0; i < u.size(); i += lane_width) {
             const Reals mu = phase.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
-            for (int l = 0; l < lane_width; ++l)
-                worst = std::max(worst, std::abs(mu[l] - phase.sample_direction(u[i + l], 0.5).cos_psi));
+            for (int l = 0; l < lane_width; ++l) {
+                const double reference = phase.sample_direction(u[i + l], 0.5).cos_psi;
+                const double sin_psi = std::sqrt(std::max(0.0, 1.0 - reference * reference));
+                const double f = two_pi * phase.eval(reference) * sin_psi;
+                const double eps = std::numeric_limits<double>::epsilon();
+                const double bound = 4.5e-16 + sin_psi * (2e-12 * 0.2 + (f > 0.0 ? 16.0 * eps / f : 1.0));
+                worst = std::max(worst, std::abs(mu[l] - reference) / bound);
+            }
         }
         vector_tables += narrow ? 1 : 0;
     }
-    INFO("worst " << worst);
+    INFO("worst difference / its bound " << worst);
     CHECK(vector_tables == 100);
-    CHECK(worst <= 4.5e-16);
+    CHECK(worst <= 1.0);
 }
 
 namespace {
