@@ -198,10 +198,7 @@ public:
         const Reals m = target - lookup(cum_, i);
         Reals d;
         if (convention_ == TabulatedConvention::trapezoid) {
-            // invert_segment's trapezoid root: f_i d + s d^2 / 2 = m, d = 2 m / (f_i + sqrt(f_i^2 + 2 s m)).
-            const Reals f = lookup(f_, i), slope = lookup(slope_, i), w = theta_next - theta;  // width(i)
-            const Reals den = f + lanes::stdx::sqrt(max(Reals(0.0), f * f + 2.0 * slope * m));
-            d = select(den > 0.0, min(max(2.0 * m / den, Reals(0.0)), w), Reals(0.0));
+            d = linear_density_root(lookup(f_, i), lookup(slope_, i), m, theta_next - theta, Reals(0.0));
         } else {
             d = newton_segment_lanes(i, m);
         }
@@ -354,13 +351,19 @@ private:
 
     /// d in [0, width(i)] with segment_mass(i, d) = m.
     double invert_segment(std::size_t i, double m) const {
-        if (convention_ == TabulatedConvention::trapezoid) {
-            // f_i d + s d^2 / 2 = m, the root without cancellation (also for s <= 0 or f_i = 0).
-            const double s = slope_[i];
-            const double den = f_[i] + std::sqrt(std::max(0.0, f_[i] * f_[i] + 2.0 * s * m));
-            return den > 0.0 ? std::clamp(2.0 * m / den, 0.0, width(i)) : 0.0;
-        }
+        if (convention_ == TabulatedConvention::trapezoid) return linear_density_root(f_[i], slope_[i], m, width(i), 0.0);
         return newton_segment(i, m);
+    }
+
+    /// Where the mass m is reached from the start of an interval of width w over which the
+    /// density is linear, f0 at the start with slope s: f0 d + s d^2 / 2 = m, the root written
+    /// without cancellation, d = 2 m / (f0 + sqrt(f0^2 + 2 s m)) (also for s <= 0 or f0 = 0),
+    /// clamped to [0, w]; `none` where the denominator vanishes. For a double, or a vector of them.
+    template <class Real>
+    static Real linear_density_root(const Real& f0, const Real& s, const Real& m, const Real& w, const Real& none) {
+        using std::max, std::min, std::sqrt;
+        const Real den = f0 + sqrt(max(Real(0.0), f0 * f0 + 2.0 * s * m));
+        return select(den > 0.0, min(max(2.0 * m / den, Real(0.0)), w), none);
     }
 
     /// linear_p: the exact mass and density at sub_nodes equal steps across each segment.
@@ -384,9 +387,7 @@ private:
         int k = 0;
         while (k + 1 < sub_nodes && mass[k + 1] <= m) ++k;
         const double h = width(i), x0 = h * k / sub_nodes, x1 = k + 1 == sub_nodes ? h : h * (k + 1) / sub_nodes;
-        const double dm = m - mass[k], slope = (f[k + 1] - f[k]) / (x1 - x0);
-        const double den = f[k] + std::sqrt(std::max(0.0, f[k] * f[k] + 2.0 * slope * dm));
-        return den > 0.0 ? std::clamp(x0 + 2.0 * dm / den, x0, x1) : 0.5 * (x0 + x1);
+        return x0 + linear_density_root(f[k], (f[k + 1] - f[k]) / (x1 - x0), m - mass[k], x1 - x0, 0.5 * (x1 - x0));
     }
 
     /// Safeguarded Halley iteration (bisection fallback) on segment_mass(i, d) = m, to 1e-12
@@ -430,9 +431,7 @@ private:
             where(more, k) += 1.0;
         const Reals x0 = h * k / double(sub_nodes), x1 = select(k + 1.0 == sub_nodes, h, h * (k + 1.0) / double(sub_nodes));
         const Reals f0 = lookup(sub_density_, base + k), f1 = lookup(sub_density_, base + k + 1.0);
-        const Reals dm = m - lookup(sub_mass_, base + k), slope0 = (f1 - f0) / (x1 - x0);
-        const Reals den = f0 + lanes::stdx::sqrt(max(Reals(0.0), f0 * f0 + 2.0 * slope0 * dm));
-        Reals d = select(den > 0.0, min(max(x0 + 2.0 * dm / den, x0), x1), 0.5 * (x0 + x1));
+        Reals d = x0 + linear_density_root(f0, (f1 - f0) / (x1 - x0), m - lookup(sub_mass_, base + k), x1 - x0, 0.5 * (x1 - x0));
         Reals lo(0.0), hi = h, root = d;
         auto open = d == d;  // lanes still iterating
         for (int iter = 0; iter < 200 && any_of(open); ++iter) {
