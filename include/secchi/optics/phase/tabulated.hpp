@@ -46,18 +46,16 @@ enum class TabulatedConvention {
 };
 
 namespace detail {
+/// x - sin(x) given sin(x), without cancellation for small x (its series below |x| = 1e-2).
+/// For a double, or a vector of them.
+template <class Real>
+Real x_minus_sin(const Real& x, const Real& sin_x) {
+    using std::abs;
+    const Real x2 = x * x;
+    return select(abs(x) < 1e-2, x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))), x - sin_x);
+}
 /// x - sin(x) without cancellation for small x.
-inline double x_minus_sin(double x) {
-    if (std::abs(x) < 1e-2) {
-        const double x2 = x * x;
-        return x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0)));
-    }
-    return x - std::sin(x);
-}
-/// x - sin(x) given sin(x).
-inline double x_minus_sin(double x, double sin_x) {
-    return std::abs(x) < 1e-2 ? x_minus_sin(x) : x - sin_x;
-}
+inline double x_minus_sin(double x) { return x_minus_sin(x, std::abs(x) < 1e-2 ? 0.0 : std::sin(x)); }
 /// x / sin(x), finite at x = 0.
 inline double x_over_sin(double x) { return std::abs(x) < 1e-4 ? 1.0 + x * x / 6.0 : x / std::sin(x); }
 /// sin of an angle in [0, pi], exactly 0 at 0 and at pi.
@@ -311,14 +309,7 @@ private:
     /// cos theta_i - cos psi = 2 sin(theta_i + d/2) sin(d/2) and 1 - cos d = 2 sin^2(d/2).
     template <class Real>
     static Real linear_p_mass(const Real& p_i, const Real& t, const Real& d, const SegmentAngles<Real>& a) {
-        Real x_minus_sin;
-        if constexpr (std::is_floating_point_v<Real>) {
-            x_minus_sin = detail::x_minus_sin(d, a.sin_d);
-        } else {
-            const Real d2 = d * d;
-            x_minus_sin = select(abs(d) < 1e-2, d * d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))),
-                                 d - a.sin_d);
-        }
+        const Real x_minus_sin = detail::x_minus_sin(d, a.sin_d);
         return two_pi * (p_i * 2.0 * a.sin_mid * a.sin_half + t * (a.sin_psi * 2.0 * a.sin_half * a.sin_half - a.cos_psi * x_minus_sin));
     }
     double linear_p_mass(std::size_t i, double d, const SegmentAngles<double>& a) const {
