@@ -467,7 +467,7 @@ void suite_tune(const Options& o) {
                "to k-d n = 32).\n");
     out(o, "| leaf size | nodes | bytes/photon | build s | r | nodes/ray | tested/ray | bulk/ray | hits/ray | rays/s [min-max] |");
     out(o, "|---|---|---|---|---|---|---|---|---|---|");
-    for (std::size_t leaf : {4ul, 8ul, 16ul, 32ul, 64ul, 128ul}) {
+    for (std::size_t leaf : {4ul, 8ul, 16ul, 32ul, 64ul, 128ul, 256ul, 512ul, 1024ul, 2048ul}) {
         std::vector<CompactRecord> copy;
         const Timing b = time_runs(3, [&] { copy = map.records; }, [&] { const VoiOctreeStore<CompactRecord> s(std::move(copy), leaf); });
         const VoiOctreeStore<CompactRecord> voi(map.records, leaf);
@@ -508,7 +508,7 @@ void suite_tune(const Options& o) {
     out(o, "### VOI grid against the octree: slanted rays\n");
     out(o, "The same map; the 100 ray origins of the collection table, rays of length 1 tilted by the zenith angle "
            "theta in the x-z plane; r = 0.026, the grid built for it (columns r/2 wide, r tall), the octree with leaf "
-           "size 128. Search only, counting collector, median of " + std::to_string(o.repeats) + " runs.\n");
+           "size " + std::to_string(VoiOctreeStore<CompactRecord>::default_leaf_size) + " (the default). Search only, counting collector, median of " + std::to_string(o.repeats) + " runs.\n");
     out(o, "| theta (deg) | hits/ray | grid ranges/ray | grid tested/ray | grid rays/s [min-max] | octree tested/ray | octree rays/s [min-max] | grid / octree |");
     out(o, "|---|---|---|---|---|---|---|---|");
     {

@@ -8,7 +8,7 @@
 //
 // Build: the root is the bounding box of all positions; a node is divided into 8 equal octants
 // of its cell ("divided into eight equal sized volumes by three planes", 3.5) until it holds
-// <= leaf_size records (default 128, a constructor parameter), reaches depth max_depth (20), or
+// <= leaf_size records (default 512, a constructor parameter), reaches depth max_depth (20), or
 // all its records share one position (no division can separate them). Empty octants get no
 // node. The records are reordered (a stable counting sort by octant per division) so every
 // node's records are one contiguous range [begin, end) of records(). Nodes live in one flat
@@ -38,33 +38,25 @@
 //  - along_stats(ray, r): the counts of one along() query (nodes, records tested, records
 //    accepted in bulk, hits), for tuning.
 //
-// Tuning (bench/search_bench --suite tune: a problem-2a map of 6.5e6 CompactRecords, 100
-// vertical rays of length 8, r = 0.05 and 0.026; BENCHMARKS.md). At a leaf the
-// records are filtered without a branch per record (range_scan.hpp's filter()), so a leaf costs little more
-// than streaming its records, while every node costs a box test and, once the map outgrows
-// the cache, a likely miss. Search time per ray therefore falls with the leaf size up to 128:
-// relative to 128, leaves of 4, 8, 16, 32, 64 run at about 0.18, 0.22, 0.33, 0.5, 0.66 of its
-// rays/s (Zen 5), and memory falls too (about 42, 34, 26, 20, 19, 17 bytes per CompactRecord
-// at 4 ... 128). 128 is the default. (With a branch per record, leaves of 32-128 would run level.)
-// Bulk accept pays when the radius is large against the leaves' boxes (at r = 0.05 about 40 %
-// of the hits are accepted in bulk with leaf 128) and costs one cheap test per node otherwise.
+// Leaf size (bench/search_bench --suite tune; BENCHMARKS.md, "Tuning tables"). At a leaf the
+// records are filtered without a branch per record (range_scan.hpp's filter()), so a leaf
+// costs little more than streaming its records, while every node costs a box test and, once
+// the map outgrows the cache, a likely miss. On the tune suite's problem-2a map (6.5e6
+// CompactRecords, vertical rays, r = 0.026 and 0.05) the search rate rises with the leaf size
+// up to 256-1024 and falls beyond; the memory falls throughout (the nodes' share: 1.4 bytes
+// per record at 128, 0.33 at 512). 512 is the default. Bulk accept pays when the radius is
+// large against the leaves' boxes and costs one cheap test per node otherwise.
 // Changing the leaf size reorders the records, so sums over hits change in their
 // last bits (not in value beyond rounding).
 // Where the target has AVX-512 (F and VL) or AVX2 and FMA (the benchmarks' -march=native
 // build), the leaf scan of CompactRecords is map/cylinder_scan.hpp's: eight (AVX-512) or four
 // (AVX2) records per step, the accepted ones packed by register compresses or a table-driven
 // permute, for chunks of any length (no scalar path for short ones), with the same hits and
-// values. Search only, against the loops below: about 1.15 times the rays/s, with AVX-512 on
-// a Zen 4 and with AVX2 on a Zen 3 alike (docs/design-notes.md). Otherwise:
-// the leaf scan (range_scan.hpp: filter(), measure()) computes in_cylinder's double arithmetic in loops the
-// compiler vectorises (two records per SSE2 register) for chunks of 32 records or more: at
-// leaf size 128 about 1.1 times the rays/s of testing one record at a time (tune suite,
-// r = 0.026 and 0.05), which is bound by the floating-point ports (~25 operations per
-// record, ~4 ns); shorter chunks are tested one record at a time (filter_scalar()).
-// Records are prefetched a steady 4 KiB ahead of the scan (range_scan.hpp). Variants measured
-// and not used (a float pre-filter, the vectorised arithmetic for bulk ranges, other prefetch
-// distances, merged ranges, chunks of 128 records, prefetching the children, a depth-first
-// node layout): docs/design-notes.md.
+// values (docs/design-notes.md). Otherwise the leaf scan (range_scan.hpp: filter(), measure())
+// computes in_cylinder's double arithmetic in loops the compiler vectorises (two records per
+// SSE2 register) for chunks of 32 records or more; shorter chunks are tested one record at a
+// time (filter_scalar()).
+// Records are prefetched a steady 4 KiB ahead of the scan (range_scan.hpp).
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
@@ -103,7 +95,7 @@ template <PhotonRecord Record>
 class VoiOctreeStore {
 public:
     using record_type = Record;
-    static constexpr std::size_t default_leaf_size = 128;
+    static constexpr std::size_t default_leaf_size = 512;
     static constexpr int max_depth = 20;
 
     explicit VoiOctreeStore(std::vector<Record> records, std::size_t leaf_size = default_leaf_size)
