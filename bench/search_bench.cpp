@@ -483,6 +483,30 @@ void suite_tune(const Options& o) {
     }
     out(o, "");
 
+    out(o, "### VOI octree: leaf size with the radiance estimator\n");
+    out(o, "The same map and rays through PhotonMap<VoiOctreeStore> (the collection table's estimator: cone-averaged "
+           "Petzold, omega = 0.005 sr), 1 thread. Each leaf size's estimate is paired with leaf 128's: " +
+               std::to_string(o.repeats) + " rounds, each timing leaf 128 and then the other, the median [min-max] of "
+               "the rounds' rate ratios.\n");
+    out(o, "| leaf size | r | rays/s [min-max] | / leaf 128, paired |");
+    out(o, "|---|---|---|---|");
+    {
+        const MapScene scene = scene_2a();
+        const auto base = photon_map<VoiOctreeStore<CompactRecord>>(map, scene, std::size_t{128});
+        for (std::size_t leaf : {128ul, 256ul, 512ul, 1024ul}) {
+            const auto voi = photon_map<VoiOctreeStore<CompactRecord>>(map, scene, leaf);
+            for (double r : {0.05, 0.0258}) {
+                const auto c = collect(o, voi, VoiCylinder{}, cone, rays, r);
+                const auto base_est = radiance_estimator(base, VoiCylinder{}, cone, r);
+                const auto est = radiance_estimator(voi, VoiCylinder{}, cone, r);
+                const Timing paired = paired_ratio(o.repeats, [&] { base_est.estimate(rays, 1); }, [&] { est.estimate(rays, 1); });
+                out(o, "| " + std::to_string(leaf) + " | " + fmt("%.4f", r) + " | " + rate_cell(c.t, nr) + " | " +
+                           fmt("%.3g", paired.median) + " [" + fmt("%.3g", paired.lo) + "-" + fmt("%.3g", paired.hi) + "] |");
+            }
+        }
+    }
+    out(o, "");
+
     out(o, "### VOI grid: cell shape\n");
     out(o, "The same map and rays. VoiGridStore with columns w wide and cells h tall, in units of the query radius r "
            "(at most 2 cells per record: finer shapes are widened, as the cell sizes shown say). Per ray (counting "
