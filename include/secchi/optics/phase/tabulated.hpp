@@ -357,46 +357,122 @@ private:
         return select(den > 0.0, min(max(2.0 * m / den, Real(0.0)), w), none);
     }
 
-    /// linear_p: the exact mass and density at sub_nodes equal steps across each segment.
+    /// linear_p: the exact mass and density at sub_nodes equal steps across each segment, and
+    /// each sub-interval's Newton bound (newton_bound()).
     void tabulate_sub_nodes() {
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {
             const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
             for (int k = 0; k <= sub_nodes; ++k) {
-                const double x = k == sub_nodes ? h : h * k / sub_nodes;
+                const double x = sub_node(h, k);
                 sub_mass_.push_back(k == 0 ? 0.0 : linear_p_mass(i, x, angles(i, x)));
                 const double sin_psi = k == sub_nodes ? sin_[i + 1] : detail::sin_angle(theta_[i] + x);
                 sub_density_.push_back(two_pi * (p_[i] + t * x) * sin_psi);
+                if (k < sub_nodes) sub_bound_.push_back(newton_bound(i, x, sub_node(h, k + 1)));
             }
         }
     }
 
-    /// linear_p: where the mass m is reached in segment i for a density linear between the
-    /// exact densities at the sub-nodes (off by O((width / sub_nodes)^2) of the width).
-    double first_guess(std::size_t i, double m) const {
-        const double* mass = &sub_mass_[i * (sub_nodes + 1)];
-        const double* f = &sub_density_[i * (sub_nodes + 1)];
-        int k = 0;
-        while (k + 1 < sub_nodes && mass[k + 1] <= m) ++k;
-        const double h = width(i), x0 = h * k / sub_nodes, x1 = k + 1 == sub_nodes ? h : h * (k + 1) / sub_nodes;
-        return x0 + linear_density_root(f[k], (f[k + 1] - f[k]) / (x1 - x0), m - mass[k], x1 - x0, 0.5 * (x1 - x0));
+    /// Offset of sub-node k (0 ... sub_nodes) in a segment of width h; the last is h exactly.
+    static double sub_node(double h, int k) { return k == sub_nodes ? h : h * k / sub_nodes; }
+
+    /// For the density f(x) = 2 pi (p_i + t x) sin(theta_i + x) of segment i over [xa, xb]:
+    /// c = max|f'| / (2 min f^2), so that one Newton step from d, with d and the root both in
+    /// [xa, xb], lands within c r^2 / f(d) of the root (r: the mass's residual at d). Taylor's
+    /// theorem: 0 = r + f(d) (root - d) + f'(xi) (root - d)^2 / 2, and |root - d| <= |r| / min f
+    /// (mean value theorem). The bounds hold on the whole interval: p is linear (its extremes
+    /// at the ends), sin is concave on [0, pi] (its minimum at an end, its maximum at an end or
+    /// pi/2), |cos| is largest at an end. Infinite where min f = 0 (a node at 0 or 180 deg).
+    double newton_bound(std::size_t i, double xa, double xb) const {
+        const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
+        const double pa = p_[i] + t * xa, pb = p_[i] + t * xb;
+        const double psi_a = theta_[i] + xa, psi_b = theta_[i] + xb;
+        const double sa = detail::sin_angle(std::min(psi_a, pi)), sb = detail::sin_angle(std::min(psi_b, pi));
+        const double sin_max = psi_a <= 0.5 * pi && psi_b >= 0.5 * pi ? 1.0 : std::max(sa, sb);
+        const double cos_max = std::max(std::abs(std::cos(psi_a)), std::abs(std::cos(psi_b)));
+        // Rounding margins (a relative 1e-9) keep the bound on the safe side of its own arithmetic.
+        const double f_min = two_pi * std::min(pa, pb) * std::min(sa, sb) * (1.0 - 1e-9);
+        const double slope_max = two_pi * (std::abs(t) * sin_max + std::max(pa, pb) * cos_max) * (1.0 + 1e-9);
+        return f_min > 0.0 ? slope_max / (2.0 * f_min * f_min) : std::numeric_limits<double>::infinity();
+    }
+
+    /// v[j]: for a double index, or per lane for a vector of them.
+    template <class Real>
+    static Real at(const std::vector<double>& v, const Real& j) {
+        if constexpr (std::is_floating_point_v<Real>) {
+            return v[static_cast<std::size_t>(j)];
+        } else {
+            return lanes::lookup(v, j);
+        }
+    }
+
+    /// linear_p: the first guess for the mass m in segment i (width h), with the sub-interval
+    /// [x0, x1] that holds the root and that sub-interval's Newton bound.
+    template <class Real>
+    struct FirstGuess {
+        Real d, x0, x1, bound;
+    };
+
+    /// The sub-interval by binary search over the sub-nodes' masses (the last k with mass_k <=
+    /// m), then the inverse of the mass, x(mass), by cubic Hermite interpolation between its
+    /// sub-nodes from their offsets and slopes dx/dmass = 1/f (exact at both ends; off by about
+    /// 1e-7 of the width with 16 sub-nodes on Petzold's table). Where a sub-node's density is 0
+    /// (a node at 0 or 180 deg) the guess is the root for a density linear between the two.
+    /// For a double, or a vector of them (segment indices i as doubles).
+    template <class Real>
+    FirstGuess<Real> first_guess(const Real& i, const Real& h, const Real& m) const {
+        using std::max, std::min;
+        const Real base = i * double(sub_nodes + 1);
+        Real k(0.0);
+        for (int step = sub_nodes / 2; step >= 1; step /= 2)
+            k = select(at(sub_mass_, base + k + double(step)) <= m, k + double(step), k);
+        const Real x0 = h * k / double(sub_nodes), x1 = select(k + 1.0 == double(sub_nodes), h, h * (k + 1.0) / double(sub_nodes));
+        const Real m0 = at(sub_mass_, base + k), dm = at(sub_mass_, base + k + 1.0) - m0;
+        const Real f0 = at(sub_density_, base + k), f1 = at(sub_density_, base + k + 1.0);
+        const auto hermite = f0 > 0.0 && f1 > 0.0 && dm > 0.0;
+        const Real s = select(hermite, (m - m0) / dm, Real(0.0));
+        const Real inv0 = select(hermite, 1.0 / f0, Real(0.0)), inv1 = select(hermite, 1.0 / f1, Real(0.0));
+        const Real interpolated = x0 + s * s * (3.0 - 2.0 * s) * (x1 - x0) + dm * s * (1.0 - s) * ((1.0 - s) * inv0 - s * inv1);
+        Real d = min(max(interpolated, x0), x1);
+        bool every_hermite;
+        if constexpr (std::is_floating_point_v<Real>) {
+            every_hermite = hermite;
+        } else {
+            every_hermite = all_of(hermite);
+        }
+        if (!every_hermite)
+            d = select(hermite, d, x0 + linear_density_root(f0, (f1 - f0) / (x1 - x0), m - m0, x1 - x0, 0.5 * (x1 - x0)));
+        return {d, x0, x1, at(sub_bound_, i * double(sub_nodes) + k)};
+    }
+
+    /// Whether d - newton (Newton's step from d, residual r, density dens > 0) lies within
+    /// 1e-12 of the width h of the root: by the guess's sub-interval bound (bound r^2 / dens,
+    /// newton_bound()) where d lies in that sub-interval, else when Newton's step itself is below
+    /// 1e-12 h (near the root, the distance to it). For a double, or a vector of them.
+    template <class Real>
+    static auto converged(const FirstGuess<Real>& g, const Real& d, const Real& r, const Real& dens, const Real& newton,
+                          const Real& h) {
+        using std::abs;
+        const auto inside = d >= g.x0 && d <= g.x1 && dens > 0.0;
+        return (inside && g.bound * r * r <= 1e-12 * h * dens) || abs(newton) <= 1e-12 * h;
     }
 
     /// Safeguarded Halley iteration (bisection fallback) on segment_mass(i, d) = m, to 1e-12
-    /// of the width. It starts from first_guess; the mass's first and second
-    /// derivatives, 2 pi (p_i + t d) sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come
-    /// with the mass from one sine and cosine of d/2.
+    /// of the width. It starts from first_guess, usually close enough for the first Newton
+    /// step to end it (converged()); the mass's first and second derivatives, 2 pi (p_i + t d)
+    /// sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come with the mass from one sine and
+    /// cosine of d/2.
     double newton_segment(std::size_t i, double m) const {
         const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
-        double lo = 0.0, hi = h, d = first_guess(i, m);
+        const FirstGuess<double> g = first_guess(static_cast<double>(i), h, m);
+        double lo = 0.0, hi = h, d = g.d;
         for (int iter = 0; iter < 200; ++iter) {
             const SegmentAngles<double> a = angles(i, d);
             const double r = linear_p_mass(i, d, a) - m;
             (r > 0.0 ? hi : lo) = d;
-            const double p = p_[i] + t * d;
-            const auto [newton, step] = halley_step(r, two_pi * p * a.sin_psi, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
-            // Done when Newton's step (near the root, the distance to it) is below 1e-12 of the
-            // width; steps leaving the bracket bisect.
-            if (std::abs(newton) <= 1e-12 * h) return std::clamp(d - newton, 0.0, h);
+            const double p = p_[i] + t * d, dens = two_pi * p * a.sin_psi;
+            const auto [newton, step] = halley_step(r, dens, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
+            // Steps leaving the bracket bisect.
+            if (converged(g, d, r, dens, newton, h)) return std::clamp(d - newton, 0.0, h);
             d -= step;
             if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
             if (hi - lo <= 1e-12 * h) break;
@@ -413,16 +489,8 @@ private:
         const Reals theta = lookup(theta_, i), h = lookup(theta_, i + 1.0) - theta;
         const Reals p_i = lookup(p_, i), t = (lookup(p_, i + 1.0) - p_i) / h;
         const Reals sin_i = lookup(sin_, i), cos_i = lookup(cos_, i);
-        // first_guess: the sub-node below m (a forward scan, lane by lane's own end), then the
-        // root for a density linear between the sub-nodes.
-        const Reals base = i * double(sub_nodes + 1);
-        Reals k(0.0);
-        for (auto more = k + 1.0 < sub_nodes && lookup(sub_mass_, base + k + 1.0) <= m; any_of(more);
-             more = k + 1.0 < sub_nodes && lookup(sub_mass_, base + k + 1.0) <= m)
-            where(more, k) += 1.0;
-        const Reals x0 = h * k / double(sub_nodes), x1 = select(k + 1.0 == sub_nodes, h, h * (k + 1.0) / double(sub_nodes));
-        const Reals f0 = lookup(sub_density_, base + k), f1 = lookup(sub_density_, base + k + 1.0);
-        Reals d = x0 + linear_density_root(f0, (f1 - f0) / (x1 - x0), m - lookup(sub_mass_, base + k), x1 - x0, 0.5 * (x1 - x0));
+        const FirstGuess<Reals> g = first_guess(i, h, m);
+        Reals d = g.d;
         Reals lo(0.0), hi = h, root = d;
         auto open = d == d;  // lanes still iterating
         for (int iter = 0; iter < 200 && any_of(open); ++iter) {
@@ -430,11 +498,11 @@ private:
             const Reals r = linear_p_mass(p_i, t, d, a) - m;
             where(open && r > 0.0, hi) = d;
             where(open && !(r > 0.0), lo) = d;
-            const Reals p = p_i + t * d;
-            const auto [newton, step] = halley_step(r, two_pi * p * a.sin_psi, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
-            const auto converged = open && abs(newton) <= 1e-12 * h;
-            where(converged, root) = min(max(d - newton, Reals(0.0)), h);
-            open = open && !converged;
+            const Reals p = p_i + t * d, dens = two_pi * p * a.sin_psi;
+            const auto [newton, step] = halley_step(r, dens, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
+            const auto done = open && converged(g, d, r, dens, newton, h);
+            where(done, root) = min(max(d - newton, Reals(0.0)), h);
+            open = open && !done;
             Reals next = d - step;
             where(!(next > lo && next < hi), next) = 0.5 * (lo + hi);
             where(open, d) = next;
@@ -452,8 +520,10 @@ private:
     std::string name_;
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
     std::vector<double> sin_, cos_;            // sin and cos of the nodes (sin exactly 0 at 0 and pi)
-    static constexpr int sub_nodes = 8;        // linear_p: sub-segments per segment for first_guess
+    static constexpr int sub_nodes = 16;       // linear_p: sub-segments per segment for first_guess
+    static_assert(std::has_single_bit(static_cast<unsigned>(sub_nodes)), "first_guess's binary search");
     std::vector<double> sub_mass_, sub_density_;  // linear_p: mass below and density at each sub-node
+    std::vector<double> sub_bound_;               // linear_p: each sub-interval's newton_bound()
     bool narrow_segments_ = true;                 // every segment narrower than 0.2 rad
     std::vector<double> slope_;                // per segment: f's slope (trapezoid)
     detail::CumulativeGuide guide_;            // segment search for sample()
