@@ -17,7 +17,9 @@
 //    f(theta_{N-1}) / (2 pi (pi - theta_{N-1})).
 //  * TabulatedConvention::linear_p: p linear in psi between nodes, times the exact sin(psi)
 //    (the Petzold table integrates to 1.020). The CDF within a segment,
-//    -a cos psi + b (sin psi - psi cos psi) + const, is inverted by safeguarded Halley steps.
+//    -a cos psi + b (sin psi - psi cos psi) + const, is inverted from a cubic Hermite guess by
+//    Newton's step where a bound proves it within 1e-12 of the segment's width, else by
+//    safeguarded Halley steps.
 //  * A table ending before 180 deg is extended to 180 deg with its last value.
 // Either way the table is then divided by its exact integral, raw_integral(), so that
 // 2 pi int p sin dpsi = 1.
