@@ -400,10 +400,13 @@ private:
     /// v[j]: for a double index, or per lane for a vector of them.
     template <class Real>
     static Real at(const std::vector<double>& v, const Real& j) {
-        if constexpr (std::is_floating_point_v<Real>) {
-            return v[static_cast<std::size_t>(j)];
-        } else {
+#if SECCHI_HAS_LANES
+        if constexpr (!std::is_floating_point_v<Real>) {
             return lanes::lookup(v, j);
+        } else
+#endif
+        {
+            return v[static_cast<std::size_t>(j)];
         }
     }
 
