@@ -13,8 +13,10 @@
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/transport/tracer.hpp"
+#include <array>
 #include <bit>
 #include <cstdint>
+#include <numbers>
 #include <random>
 #include <tuple>
 #include <type_traits>
@@ -249,6 +251,43 @@ TEST_CASE("stratified water: analog, implicit capture and continuous absorption 
             CHECK(agree(a.irradiance[i][k], c.irradiance[i][k]));
             CHECK(agree(a.irradiance[i][k], ic.irradiance[i][k]));
         }
+}
+
+TEST_CASE("depth importance: the level of random depths is the formula's, in layered and homogeneous water") {
+    // L(z) = floor(tau_a(z) / s) down to z_max, L(z_max) - floor((tau_a(z) - tau_a(z_max)) / s)
+    // below (s = mu_i ln 2; transport/importance.hpp), evaluated from the medium's optical depth;
+    // depths within 1e-9 s of a level change, where rounding may decide, are skipped.
+    const auto layered = two_layers(0.37, 0.5, 0.91, 0.5, 2.3, IsotropicPhase{});
+    const auto homogeneous = HomogeneousWater<IsotropicPhase>::from_albedo(1.0, 0.2, IsotropicPhase{});
+    std::mt19937_64 gen(29);
+    auto check = [&](const auto& water, DepthImportance imp, const char* name) {
+        const ImportanceLevels levels(imp, water);
+        const double s = imp.cosine * std::numbers::ln2;
+        const double tau_max = water.optical_path(Coefficient::absorption, 0.0, 1.0, imp.max_depth);
+        std::uniform_real_distribution<double> depth(-1.0, 3.0 * imp.max_depth + 1.0);
+        int checked = 0, mismatches = 0;
+        for (int n = 0; n < 200000; ++n) {
+            const double z = n < 4 ? std::array{-5.0, 0.0, imp.max_depth, 1e5}[n] : depth(gen);
+            const double tau = water.optical_path(Coefficient::absorption, 0.0, 1.0, std::max(z, 0.0));
+            const double x = z <= imp.max_depth ? tau / s : (tau - tau_max) / s;
+            if (z > 0.0 && std::abs(x - std::round(x)) < 1e-9) continue;
+            const int expected = z <= imp.max_depth ? static_cast<int>(std::floor(tau / s))
+                                                    : static_cast<int>(std::floor(tau_max / s) - std::min(63.0, std::floor(x)));
+            ++checked;
+            if (levels.level(z) != expected || levels.factor(z) != std::ldexp(1.0, expected)) {
+                if (++mismatches <= 5) FAIL_CHECK(name << ": z = " << z << " level " << levels.level(z) << ", formula " << expected);
+            }
+        }
+        INFO(name << ": " << checked << " depths checked");
+        CHECK(checked > 199000);
+        CHECK(mismatches == 0);
+    };
+    check(layered, {0.6, 7.0}, "layered, mu_i = 0.6");
+    check(layered, {1.0, 2.3}, "layered, z_max on the layer boundary");
+    check(homogeneous, {1.0, 10.0}, "homogeneous a = 0.8, mu_i = 1");
+    check(homogeneous, {0.05, 3.0}, "homogeneous, many levels");
+    CHECK(ImportanceLevels{}.level(5.0) == 0);
+    CHECK(ImportanceLevels{}.factor(5.0) == 1.0);
 }
 
 TEST_CASE("depth importance: splitting and roulette leave irradiances and the map's flux unbiased") {

@@ -24,6 +24,8 @@
 #include "secchi/optics/medium.hpp"
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numbers>
 #include <utility>
 #include <vector>
@@ -97,45 +99,94 @@ struct DepthImportance {
 };
 
 
-/// L(z) for one medium: the depths where tau_a crosses multiples of mu_i ln 2 (above z_max,
-/// where the level rises) and below z_max (where it falls), found once by the medium's exact
-/// inverse of the optical depth; level(z) is then a search among a few depths.
+/// L(z) for one medium. The depths where the level changes are found once by the medium's
+/// exact inverse of the optical depth: where tau_a crosses multiples of mu_i ln 2 above z_max
+/// (the level rises by one at each) and below z_max (it falls by one at each). Between two
+/// such depths the level is constant, so level(z) is a table entry: the interval holding z is
+/// found from a guide of equal depth buckets (the interval at the bucket's shallow edge, then
+/// one comparison per boundary passed, usually none or one) instead of a binary search per
+/// event; at a boundary the deeper level applies (z >= boundary), as in the formula.
 class ImportanceLevels {
 public:
     ImportanceLevels() = default;  ///< off: level 0 everywhere
     template <Medium M>
-    ImportanceLevels(const DepthImportance& imp, const M& medium) : max_depth_(imp.max_depth) {
+    ImportanceLevels(const DepthImportance& imp, const M& medium) {
         if (!imp.enabled()) return;
         const double step = imp.cosine * std::numbers::ln2;
         const double tau_max = medium.optical_path(Coefficient::absorption, 0.0, 1.0, imp.max_depth);
-        for (int l = 1; l * step <= tau_max; ++l)
-            rising_.push_back(medium.distance_to(Coefficient::absorption, 0.0, 1.0, l * step));
-        for (int l = 1; l < 64; ++l) {  // falling: tau_a(z) - tau_max = l step below z_max
+        // The formula's z <= z_max keeps the rising levels down to z_max: a boundary the
+        // inverse rounds to the other side of z_max takes effect at the next double below it.
+        const double below_max = std::nextafter(imp.max_depth, std::numeric_limits<double>::infinity());
+        int level = 0;
+        levels_.push_back(0);
+        for (int l = 1; l * step <= tau_max; ++l)  // rising: tau_a(z) = l step, z <= z_max
+            add_boundary(std::min(medium.distance_to(Coefficient::absorption, 0.0, 1.0, l * step), below_max), ++level);
+        // Falling: tau_a(z) - tau_a(z_max) = l step below z_max.
+        for (int l = 1; l < 64; ++l) {
             const double z = imp.max_depth + medium.distance_to(Coefficient::absorption, imp.max_depth, 1.0, l * step);
             if (!std::isfinite(z)) break;
-            falling_.push_back(z);
+            add_boundary(std::max(z, below_max), --level);
         }
+        build_guide();
         enabled_ = true;
     }
 
     [[nodiscard]] bool enabled() const { return enabled_; }
 
-    [[nodiscard]] int level(double z) const {
-        if (!enabled_) return 0;
-        const auto count = [z](const std::vector<double>& v) {
-            return static_cast<int>(std::upper_bound(v.begin(), v.end(), z) - v.begin());
-        };
-        if (z <= max_depth_) return count(rising_);
-        return static_cast<int>(rising_.size()) - count(falling_);
-    }
+    /// L(z), for a finite depth z (m).
+    [[nodiscard]] int level(double z) const { return enabled_ ? levels_[interval(z)] : 0; }
 
     /// I(z) = 2^L(z).
-    [[nodiscard]] double factor(double z) const { return std::ldexp(1.0, level(z)); }
+    [[nodiscard]] double factor(double z) const { return enabled_ ? factors_[interval(z)] : 1.0; }
 
 private:
+    /// Appends a boundary (in increasing depth; one that coincides with the previous replaces
+    /// its level) and the level from it down to the next.
+    void add_boundary(double z, int level) {
+        if (!boundaries_.empty() && z <= boundaries_.back()) {
+            levels_.back() = level;
+            return;
+        }
+        boundaries_.push_back(z);
+        levels_.push_back(level);
+    }
+
+    /// The guide: guide_count_ buckets of equal depth over [boundaries_.front(), .back()]
+    /// (four per boundary), each holding the interval at its shallow edge.
+    void build_guide() {
+        for (int l : levels_) factors_.push_back(std::ldexp(1.0, l));
+        if (boundaries_.empty()) return;
+        const double span = boundaries_.back() - boundaries_.front();
+        guide_count_ = span > 0.0 ? 4 * boundaries_.size() : 1;
+        bucket_scale_ = span > 0.0 ? static_cast<double>(guide_count_) / span : 0.0;
+        for (std::size_t k = 0; k < guide_count_; ++k)
+            guide_.push_back(k == 0 ? 0 : exact_interval(boundaries_.front() + static_cast<double>(k) / bucket_scale_, 0));
+    }
+
+    /// The number of boundaries <= z (the index of z's interval), from a starting guess j:
+    /// forward past boundaries <= z, back over boundaries > z.
+    [[nodiscard]] std::uint32_t exact_interval(double z, std::uint32_t j) const {
+        const std::uint32_t n = static_cast<std::uint32_t>(boundaries_.size());
+        while (j < n && boundaries_[j] <= z) ++j;
+        while (j > 0 && boundaries_[j - 1] > z) --j;
+        return j;
+    }
+
+    /// z's interval, starting from its guide bucket (clamped to the guide's range).
+    [[nodiscard]] std::uint32_t interval(double z) const {
+        if (boundaries_.empty()) return 0;
+        const double u = (z - boundaries_.front()) * bucket_scale_;
+        const std::size_t k = u > 0.0 ? std::min(static_cast<std::size_t>(std::min(u, 1e18)), guide_count_ - 1) : 0;
+        return exact_interval(z, guide_[k]);
+    }
+
     bool enabled_ = false;
-    double max_depth_ = 0.0;
-    std::vector<double> rising_, falling_;
+    std::vector<double> boundaries_;  ///< depths where the level changes, increasing
+    std::vector<int> levels_;         ///< levels_[j]: L on [boundaries_[j-1], boundaries_[j])
+    std::vector<double> factors_;     ///< 2^levels_[j]
+    std::vector<std::uint32_t> guide_;
+    std::size_t guide_count_ = 0;
+    double bucket_scale_ = 0.0;       ///< buckets per metre
 };
 
 }  // namespace secchi
