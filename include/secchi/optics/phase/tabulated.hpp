@@ -133,7 +133,10 @@ public:
             cos_.push_back(std::cos(theta_[i]));
             f_.push_back(two_pi * p_[i] * sin_.back());
         }
-        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) slope_.push_back((f_[i + 1] - f_[i]) / width(i));
+        for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {
+            slope_.push_back((f_[i + 1] - f_[i]) / width(i));
+            p_slope_.push_back((p_[i + 1] - p_[i]) / width(i));
+        }
         cum_.push_back(power_mass(theta_[0]));
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) cum_.push_back(cum_.back() + segment_mass(i, width(i)));
         raw_ = cum_.back();
@@ -315,20 +318,23 @@ private:
         return two_pi * (p_i * 2.0 * a.sin_mid * a.sin_half + t * (a.sin_psi * 2.0 * a.sin_half * a.sin_half - a.cos_psi * x_minus_sin));
     }
     double linear_p_mass(std::size_t i, double d, const SegmentAngles<double>& a) const {
-        return linear_p_mass(p_[i], (p_[i + 1] - p_[i]) / width(i), d, a);
+        return linear_p_mass(p_[i], p_slope_[i], d, a);
     }
 
-    /// Newton's step r / dens toward the root of mass - m (r: the residual, dens and slope: the
-    /// mass's first and second derivatives), and Halley's, which divides it by 1 - q, q = r
-    /// slope / (2 dens^2), used where the quadratic model holds (|q| <= 1/2). Where dens <= 0
-    /// Newton's step is hi - lo (never taken as converged) and Halley's leaves the bracket.
+    /// Newton's step r / dens toward the root of mass - m (r: the residual, dens: the mass's
+    /// derivative); where dens <= 0, `bracket` (hi - lo: never taken as converged).
     template <class Real>
-    static std::pair<Real, Real> halley_step(const Real& r, const Real& dens, const Real& slope, const Real& bracket) {
+    static Real newton_step(const Real& r, const Real& dens, const Real& bracket) {
+        return select(dens > 0.0, r / dens, bracket);
+    }
+    /// Halley's step from Newton's: newton / (1 - q), q = newton slope / (2 dens) (slope: the
+    /// mass's second derivative), where the quadratic model holds (|q| <= 1/2), else Newton's.
+    /// Where dens <= 0 it leaves the bracket (and the iteration bisects).
+    template <class Real>
+    static Real halley_step(const Real& newton, const Real& dens, const Real& slope) {
         using std::abs;
-        const auto positive = dens > 0.0;
-        const Real newton = select(positive, r / dens, bracket);
-        const Real q = select(positive, 0.5 * newton * slope / dens, Real(1.0));
-        return {newton, select(abs(q) <= 0.5, newton / (1.0 - q), newton)};
+        const Real q = select(dens > 0.0, 0.5 * newton * slope / dens, Real(1.0));
+        return select(abs(q) <= 0.5, newton / (1.0 - q), newton);
     }
 
     /// Unnormalised density per sr at psi = acos(mu) in segment i. Where sin(psi) -> 0 (a
@@ -359,23 +365,35 @@ private:
         return select(den > 0.0, min(max(2.0 * m / den, Real(0.0)), w), none);
     }
 
-    /// linear_p: the exact mass and density at sub_nodes equal steps across each segment, and
-    /// each sub-interval's Newton bound (newton_bound()).
+    /// linear_p: the exact mass and density (and its inverse) at sub_nodes equal steps across
+    /// each segment; per sub-interval the Newton bound (newton_bound()) and the inverse of its
+    /// mass where first_guess interpolates (else 0).
     void tabulate_sub_nodes() {
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {
-            const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
+            const double h = width(i);
             for (int k = 0; k <= sub_nodes; ++k) {
-                const double x = sub_node(h, k);
+                const double x = sub_node(h, double(k));
                 sub_mass_.push_back(k == 0 ? 0.0 : linear_p_mass(i, x, angles(i, x)));
                 const double sin_psi = k == sub_nodes ? sin_[i + 1] : detail::sin_angle(theta_[i] + x);
-                sub_density_.push_back(two_pi * (p_[i] + t * x) * sin_psi);
-                if (k < sub_nodes) sub_bound_.push_back(newton_bound(i, x, sub_node(h, k + 1)));
+                sub_density_.push_back(two_pi * (p_[i] + p_slope_[i] * x) * sin_psi);
+                sub_inverse_density_.push_back(sub_density_.back() > 0.0 ? 1.0 / sub_density_.back() : 0.0);
+            }
+            for (int k = 0; k < sub_nodes; ++k) {
+                const std::size_t j = i * (sub_nodes + 1) + static_cast<std::size_t>(k);
+                sub_bound_.push_back(newton_bound(i, sub_node(h, double(k)), sub_node(h, k + 1.0)));
+                const double dm = sub_mass_[j + 1] - sub_mass_[j];
+                const bool hermite = sub_density_[j] > 0.0 && sub_density_[j + 1] > 0.0 && dm > 0.0;
+                sub_inverse_mass_.push_back(hermite ? 1.0 / dm : 0.0);
             }
         }
     }
 
     /// Offset of sub-node k (0 ... sub_nodes) in a segment of width h; the last is h exactly.
-    static double sub_node(double h, int k) { return k == sub_nodes ? h : h * k / sub_nodes; }
+    /// For a double, or a vector of them.
+    template <class Real>
+    static Real sub_node(const Real& h, const Real& k) {
+        return select(k == double(sub_nodes), h, h * k / double(sub_nodes));
+    }
 
     /// For the density f(x) = 2 pi (p_i + t x) sin(theta_i + x) of segment i over [xa, xb]:
     /// c = max|f'| / (2 min f^2), so that one Newton step from d, with d and the root both in
@@ -385,7 +403,7 @@ private:
     /// at the ends), sin is concave on [0, pi] (its minimum at an end, its maximum at an end or
     /// pi/2), |cos| is largest at an end. Infinite where min f = 0 (a node at 0 or 180 deg).
     double newton_bound(std::size_t i, double xa, double xb) const {
-        const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
+        const double t = p_slope_[i];
         const double pa = p_[i] + t * xa, pb = p_[i] + t * xb;
         const double psi_a = theta_[i] + xa, psi_b = theta_[i] + xb;
         const double sa = detail::sin_angle(std::min(psi_a, pi)), sb = detail::sin_angle(std::min(psi_b, pi));
@@ -420,8 +438,9 @@ private:
     /// The sub-interval by binary search over the sub-nodes' masses (the last k with mass_k <=
     /// m), then the inverse of the mass, x(mass), by cubic Hermite interpolation between its
     /// sub-nodes from their offsets and slopes dx/dmass = 1/f (exact at both ends; off by about
-    /// 1e-7 of the width with 16 sub-nodes on Petzold's table). Where a sub-node's density is 0
-    /// (a node at 0 or 180 deg) the guess is the root for a density linear between the two.
+    /// 1e-7 of the width with 16 sub-nodes on Petzold's table), with the inverses tabulated.
+    /// Where a sub-node's density is 0 (a node at 0 or 180 deg) the guess is the root for a
+    /// density linear between the two.
     /// For a double, or a vector of them (segment indices i as doubles).
     template <class Real>
     FirstGuess<Real> first_guess(const Real& i, const Real& h, const Real& m) const {
@@ -430,12 +449,13 @@ private:
         Real k(0.0);
         for (int step = sub_nodes / 2; step >= 1; step /= 2)
             k = select(at(sub_mass_, base + k + double(step)) <= m, k + double(step), k);
-        const Real x0 = h * k / double(sub_nodes), x1 = select(k + 1.0 == double(sub_nodes), h, h * (k + 1.0) / double(sub_nodes));
+        const Real x0 = sub_node(h, k), x1 = sub_node(h, k + 1.0);
         const Real m0 = at(sub_mass_, base + k), dm = at(sub_mass_, base + k + 1.0) - m0;
-        const Real f0 = at(sub_density_, base + k), f1 = at(sub_density_, base + k + 1.0);
-        const auto hermite = f0 > 0.0 && f1 > 0.0 && dm > 0.0;
-        const Real s = select(hermite, (m - m0) / dm, Real(0.0));
-        const Real inv0 = select(hermite, 1.0 / f0, Real(0.0)), inv1 = select(hermite, 1.0 / f1, Real(0.0));
+        const Real sub_interval = i * double(sub_nodes) + k;
+        const Real inverse_dm = at(sub_inverse_mass_, sub_interval);
+        const auto hermite = inverse_dm > 0.0;  // both densities and the mass positive
+        const Real s = (m - m0) * inverse_dm;
+        const Real inv0 = at(sub_inverse_density_, base + k), inv1 = at(sub_inverse_density_, base + k + 1.0);
         const Real interpolated = x0 + s * s * (3.0 - 2.0 * s) * (x1 - x0) + dm * s * (1.0 - s) * ((1.0 - s) * inv0 - s * inv1);
         Real d = min(max(interpolated, x0), x1);
         bool every_hermite;
@@ -444,9 +464,11 @@ private:
         } else {
             every_hermite = all_of(hermite);
         }
-        if (!every_hermite)
+        if (!every_hermite) {
+            const Real f0 = at(sub_density_, base + k), f1 = at(sub_density_, base + k + 1.0);
             d = select(hermite, d, x0 + linear_density_root(f0, (f1 - f0) / (x1 - x0), m - m0, x1 - x0, 0.5 * (x1 - x0)));
-        return {d, x0, x1, at(sub_bound_, i * double(sub_nodes) + k)};
+        }
+        return {d, x0, x1, at(sub_bound_, sub_interval)};
     }
 
     /// Whether d - newton (Newton's step from d, residual r, density dens > 0) lies within
@@ -467,7 +489,7 @@ private:
     /// sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come with the mass from one sine and
     /// cosine of d/2.
     double newton_segment(std::size_t i, double m) const {
-        const double h = width(i), t = (p_[i + 1] - p_[i]) / h;
+        const double h = width(i), t = p_slope_[i];
         const FirstGuess<double> g = first_guess(static_cast<double>(i), h, m);
         double lo = 0.0, hi = h, d = g.d;
         for (int iter = 0; iter < 200; ++iter) {
@@ -475,10 +497,10 @@ private:
             const double r = linear_p_mass(i, d, a) - m;
             (r > 0.0 ? hi : lo) = d;
             const double p = p_[i] + t * d, dens = two_pi * p * a.sin_psi;
-            const auto [newton, step] = halley_step(r, dens, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
-            // Steps leaving the bracket bisect.
+            const double newton = newton_step(r, dens, hi - lo);
             if (converged(g, d, r, dens, newton, h)) return std::clamp(d - newton, 0.0, h);
-            d -= step;
+            d -= halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
+            // Steps leaving the bracket bisect.
             if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
             if (hi - lo <= 1e-12 * h) break;
         }
@@ -492,7 +514,7 @@ private:
     lanes::Reals newton_segment_lanes(const lanes::Reals& i, const lanes::Reals& m) const {
         using lanes::Reals, lanes::lookup, lanes::stdx::max, lanes::stdx::min;
         const Reals theta = lookup(theta_, i), h = lookup(theta_, i + 1.0) - theta;
-        const Reals p_i = lookup(p_, i), t = (lookup(p_, i + 1.0) - p_i) / h;
+        const Reals p_i = lookup(p_, i), t = lookup(p_slope_, i);
         const Reals sin_i = lookup(sin_, i), cos_i = lookup(cos_, i);
         const FirstGuess<Reals> g = first_guess(i, h, m);
         Reals d = g.d;
@@ -504,7 +526,8 @@ private:
             where(open && r > 0.0, hi) = d;
             where(open && !(r > 0.0), lo) = d;
             const Reals p = p_i + t * d, dens = two_pi * p * a.sin_psi;
-            const auto [newton, step] = halley_step(r, dens, two_pi * (t * a.sin_psi + p * a.cos_psi), hi - lo);
+            const Reals newton = newton_step(r, dens, hi - lo);
+            const Reals step = halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
             const auto done = open && converged(g, d, r, dens, newton, h);
             where(done, root) = min(max(d - newton, Reals(0.0)), h);
             open = open && !done;
@@ -528,9 +551,12 @@ private:
     static constexpr int sub_nodes = 16;       // linear_p: sub-segments per segment for first_guess
     static_assert(std::has_single_bit(static_cast<unsigned>(sub_nodes)), "first_guess's binary search");
     std::vector<double> sub_mass_, sub_density_;  // linear_p: mass below and density at each sub-node
+    std::vector<double> sub_inverse_density_;     // linear_p: 1 / density at each sub-node (0 where 0)
     std::vector<double> sub_bound_;               // linear_p: each sub-interval's newton_bound()
+    std::vector<double> sub_inverse_mass_;        // linear_p: 1 / its mass where first_guess interpolates, else 0
     bool narrow_segments_ = true;                 // every segment narrower than 0.2 rad
     std::vector<double> slope_;                // per segment: f's slope (trapezoid)
+    std::vector<double> p_slope_;              // per segment: p's slope (linear_p)
     detail::CumulativeGuide guide_;            // segment search for sample()
     double raw_ = 0.0;
 };
