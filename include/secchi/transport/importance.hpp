@@ -52,6 +52,7 @@ public:
         require(std::isfinite(share) && share >= 0.0 && share < 1.0, "backscatter bias", share, "must be in [0, 1) (0 = off)");
         require(begin >= 0.0 && end <= 1.0 && end > begin, "backward fraction of the phase function", end - begin,
                 "must be positive: the phase function sends nothing backward");
+        last_backward_ = std::nextafter(end, 0.0);
         forward_weight_ = 1.0 / (1.0 - share);
         backward_weight_ = 1.0 / (1.0 - share + share / (end - begin));
     }
@@ -64,13 +65,14 @@ public:
     };
     [[nodiscard]] Draw draw(double u) const {
         if (share_ == 0.0) return {u, 1.0};
-        const double v = u < share_ ? std::min(begin_ + (end_ - begin_) * (u / share_), std::nextafter(end_, 0.0))
+        const double v = u < share_ ? std::min(begin_ + (end_ - begin_) * (u / share_), last_backward_)
                                     : (u - share_) / (1.0 - share_);
         return {v, v >= begin_ && v < end_ ? backward_weight_ : forward_weight_};
     }
 
 private:
     double share_ = 0.0, begin_ = 0.0, end_ = 1.0;
+    double last_backward_ = std::nextafter(1.0, 0.0);  ///< the largest double below end_
     double forward_weight_ = 1.0, backward_weight_ = 1.0;
 };
 
