@@ -415,16 +415,21 @@ private:
         return f_min > 0.0 ? slope_max / (2.0 * f_min * f_min) : std::numeric_limits<double>::infinity();
     }
 
-    /// v[j]: for a double index, or per lane for a vector of them.
+    /// An index into the tables: an integer for a double, the lanes' indices as doubles for a
+    /// vector of them.
     template <class Real>
-    static Real at(const std::vector<double>& v, const Real& j) {
+    using IndexOf = std::conditional_t<std::is_floating_point_v<Real>, std::size_t, Real>;
+
+    /// v[j]: for an integer index, or per lane for a vector of them.
+    template <class Index>
+    static auto at(const std::vector<double>& v, const Index& j) {
 #if SECCHI_HAS_LANES
-        if constexpr (!std::is_floating_point_v<Real>) {
+        if constexpr (!std::is_integral_v<Index>) {
             return lanes::lookup(v, j);
         } else
 #endif
         {
-            return v[static_cast<std::size_t>(j)];
+            return v[j];
         }
     }
 
@@ -441,21 +446,22 @@ private:
     /// 1e-7 of the width with 16 sub-nodes on Petzold's table), with the inverses tabulated.
     /// Where a sub-node's density is 0 (a node at 0 or 180 deg) the guess is the root for a
     /// density linear between the two.
-    /// For a double, or a vector of them (segment indices i as doubles).
+    /// For a double (segment index i), or a vector of them (segment indices as doubles).
     template <class Real>
-    FirstGuess<Real> first_guess(const Real& i, const Real& h, const Real& m) const {
+    FirstGuess<Real> first_guess(const IndexOf<Real>& i, const Real& h, const Real& m) const {
         using std::max, std::min;
-        const Real base = i * double(sub_nodes + 1);
-        Real k(0.0);
+        using Index = IndexOf<Real>;
+        const Index base = i * Index(sub_nodes + 1), one(1);
+        Index k(0);
         for (int step = sub_nodes / 2; step >= 1; step /= 2)
-            k = select(at(sub_mass_, base + k + double(step)) <= m, k + double(step), k);
-        const Real x0 = sub_node(h, k), x1 = sub_node(h, k + 1.0);
-        const Real m0 = at(sub_mass_, base + k), dm = at(sub_mass_, base + k + 1.0) - m0;
-        const Real sub_interval = i * double(sub_nodes) + k;
+            k = select(at(sub_mass_, base + k + Index(step)) <= m, k + Index(step), k);
+        const Real x0 = sub_node(h, static_cast<Real>(k)), x1 = sub_node(h, static_cast<Real>(k + one));
+        const Real m0 = at(sub_mass_, base + k), dm = at(sub_mass_, base + k + one) - m0;
+        const Index sub_interval = i * Index(sub_nodes) + k;
         const Real inverse_dm = at(sub_inverse_mass_, sub_interval);
         const auto hermite = inverse_dm > 0.0;  // both densities and the mass positive
         const Real s = (m - m0) * inverse_dm;
-        const Real inv0 = at(sub_inverse_density_, base + k), inv1 = at(sub_inverse_density_, base + k + 1.0);
+        const Real inv0 = at(sub_inverse_density_, base + k), inv1 = at(sub_inverse_density_, base + k + one);
         const Real interpolated = x0 + s * s * (3.0 - 2.0 * s) * (x1 - x0) + dm * s * (1.0 - s) * ((1.0 - s) * inv0 - s * inv1);
         Real d = min(max(interpolated, x0), x1);
         bool every_hermite;
@@ -465,7 +471,7 @@ private:
             every_hermite = all_of(hermite);
         }
         if (!every_hermite) {
-            const Real f0 = at(sub_density_, base + k), f1 = at(sub_density_, base + k + 1.0);
+            const Real f0 = at(sub_density_, base + k), f1 = at(sub_density_, base + k + one);
             d = select(hermite, d, x0 + linear_density_root(f0, (f1 - f0) / (x1 - x0), m - m0, x1 - x0, 0.5 * (x1 - x0)));
         }
         return {d, x0, x1, at(sub_bound_, sub_interval)};
@@ -490,7 +496,7 @@ private:
     /// cosine of d/2.
     double newton_segment(std::size_t i, double m) const {
         const double h = width(i), t = p_slope_[i];
-        const FirstGuess<double> g = first_guess(static_cast<double>(i), h, m);
+        const FirstGuess<double> g = first_guess(i, h, m);
         double lo = 0.0, hi = h, d = g.d;
         for (int iter = 0; iter < 200; ++iter) {
             const SegmentAngles<double> a = angles(i, d);
