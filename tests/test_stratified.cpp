@@ -260,11 +260,12 @@ TEST_CASE("depth importance: the level of random depths is the formula's, in lay
     const auto layered = two_layers(0.37, 0.5, 0.91, 0.5, 2.3, IsotropicPhase{});
     const auto homogeneous = HomogeneousWater<IsotropicPhase>::from_albedo(1.0, 0.2, IsotropicPhase{});
     std::mt19937_64 gen(29);
-    auto check = [&](const auto& water, DepthImportance imp, const char* name) {
+    // Depths drawn uniformly from [lo, hi] (default: -1 m to 3 z_max + 1 m).
+    auto check = [&](const auto& water, DepthImportance imp, const char* name, double lo = NAN, double hi = NAN) {
         const ImportanceLevels levels(imp, water);
         const double s = imp.cosine * std::numbers::ln2;
         const double tau_max = water.optical_path(Coefficient::absorption, 0.0, 1.0, imp.max_depth);
-        std::uniform_real_distribution<double> depth(-1.0, 3.0 * imp.max_depth + 1.0);
+        std::uniform_real_distribution<double> depth(std::isnan(lo) ? -1.0 : lo, std::isnan(hi) ? 3.0 * imp.max_depth + 1.0 : hi);
         int checked = 0, mismatches = 0;
         for (int n = 0; n < 200000; ++n) {
             const double z = n < 4 ? std::array{-5.0, 0.0, imp.max_depth, 1e5}[n] : depth(gen);
@@ -286,6 +287,11 @@ TEST_CASE("depth importance: the level of random depths is the formula's, in lay
     check(layered, {1.0, 2.3}, "layered, z_max on the layer boundary");
     check(homogeneous, {1.0, 10.0}, "homogeneous a = 0.8, mu_i = 1");
     check(homogeneous, {0.05, 3.0}, "homogeneous, many levels");
+    // Levels 1.4e-5 m apart below 20 m under 14 m without any: more than the guide's buckets
+    // can separate, so that buckets hold several boundaries.
+    const auto dense = two_layers(0.05, 0.5, 5e4, 0.5, 20.0, IsotropicPhase{});
+    check(dense, {1.0, 20.0005}, "a dense layer", 19.9995, 20.0025);
+    check(dense, {1.0, 20.0005}, "a dense layer, all depths");
     CHECK(ImportanceLevels{}.level(5.0) == 0);
     CHECK(ImportanceLevels{}.factor(5.0) == 1.0);
 }

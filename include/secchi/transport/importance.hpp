@@ -105,9 +105,10 @@ struct DepthImportance {
 /// exact inverse of the optical depth: where tau_a crosses multiples of mu_i ln 2 above z_max
 /// (the level rises by one at each) and below z_max (it falls by one at each). Between two
 /// such depths the level is constant, so level(z) is a table entry: the interval holding z is
-/// found from a guide of equal depth buckets (the interval at the bucket's shallow edge, then
-/// one comparison per boundary passed, usually none or one) instead of a binary search per
-/// event; at a boundary the deeper level applies (z >= boundary), as in the formula.
+/// found from a guide of equal depth buckets, each narrower than the closest two boundaries
+/// (the interval at the bucket's shallow edge, plus one where the bucket's boundary lies at or
+/// above z: one comparison, no branch) instead of a binary search per event; at a boundary
+/// the deeper level applies (z >= boundary), as in the formula.
 class ImportanceLevels {
 public:
     ImportanceLevels() = default;  ///< off: level 0 everywhere
@@ -153,41 +154,55 @@ private:
         levels_.push_back(level);
     }
 
-    /// The guide: guide_count_ buckets of equal depth over [boundaries_.front(), .back()]
-    /// (four per boundary), each holding the interval at its shallow edge.
+    /// The guide: buckets of equal depth from the first boundary to the last, narrower than
+    /// the closest two boundaries (at most max_buckets; beyond that a bucket may hold several
+    /// and exact_interval steps over them), each holding the interval at its shallow edge.
+    /// boundaries_ then ends with +inf, so that the boundary after any interval can be read.
     void build_guide() {
         for (int l : levels_) factors_.push_back(std::ldexp(1.0, l));
-        if (boundaries_.empty()) return;
-        const double span = boundaries_.back() - boundaries_.front();
-        guide_count_ = span > 0.0 ? 4 * boundaries_.size() : 1;
-        bucket_scale_ = span > 0.0 ? static_cast<double>(guide_count_) / span : 0.0;
-        for (std::size_t k = 0; k < guide_count_; ++k)
-            guide_.push_back(k == 0 ? 0 : exact_interval(boundaries_.front() + static_cast<double>(k) / bucket_scale_, 0));
+        count_ = static_cast<std::uint32_t>(boundaries_.size());
+        if (count_ > 0) {
+            first_ = boundaries_.front();
+            const double span = boundaries_.back() - first_;
+            double closest = span;
+            for (std::size_t j = 1; j < boundaries_.size(); ++j) closest = std::min(closest, boundaries_[j] - boundaries_[j - 1]);
+            const double buckets = span > 0.0 ? std::min(std::ceil(span / closest) + 1.0, max_buckets) : 1.0;
+            bucket_scale_ = span > 0.0 ? buckets / span : 0.0;
+            for (std::size_t k = 0; k < static_cast<std::size_t>(buckets); ++k)
+                guide_.push_back(k == 0 ? 0 : exact_interval(first_ + static_cast<double>(k) / bucket_scale_, 0));
+        } else {
+            guide_.push_back(0);
+        }
+        boundaries_.push_back(std::numeric_limits<double>::infinity());
     }
+    static constexpr double max_buckets = 65536.0;
 
     /// The number of boundaries <= z (the index of z's interval), from a starting guess j:
     /// forward past boundaries <= z, back over boundaries > z.
     [[nodiscard]] std::uint32_t exact_interval(double z, std::uint32_t j) const {
-        const std::uint32_t n = static_cast<std::uint32_t>(boundaries_.size());
-        while (j < n && boundaries_[j] <= z) ++j;
+        while (j < count_ && boundaries_[j] <= z) ++j;
         while (j > 0 && boundaries_[j - 1] > z) --j;
         return j;
     }
 
-    /// z's interval, starting from its guide bucket (clamped to the guide's range).
+    /// z's interval: its guide bucket's (the bucket clamped to the guide's range), plus one if
+    /// the bucket's boundary lies at or above z; exact_interval then only confirms it, unless
+    /// rounding put z into a neighbouring bucket or a bucket holds several boundaries.
     [[nodiscard]] std::uint32_t interval(double z) const {
-        if (boundaries_.empty()) return 0;
-        const double u = (z - boundaries_.front()) * bucket_scale_;
-        const std::size_t k = u > 0.0 ? std::min(static_cast<std::size_t>(std::min(u, 1e18)), guide_count_ - 1) : 0;
-        return exact_interval(z, guide_[k]);
+        const double u = (z - first_) * bucket_scale_;
+        const std::size_t k = u > 0.0 ? std::min(static_cast<std::size_t>(std::min(u, 1e18)), guide_.size() - 1) : 0;
+        std::uint32_t j = guide_[k];
+        j += static_cast<std::uint32_t>((boundaries_[j] <= z) & (j < count_));
+        return exact_interval(z, j);
     }
 
     bool enabled_ = false;
-    std::vector<double> boundaries_;  ///< depths where the level changes, increasing
+    std::vector<double> boundaries_;  ///< depths where the level changes, increasing; then +inf
+    std::uint32_t count_ = 0;         ///< the boundaries before the +inf
     std::vector<int> levels_;         ///< levels_[j]: L on [boundaries_[j-1], boundaries_[j])
     std::vector<double> factors_;     ///< 2^levels_[j]
     std::vector<std::uint32_t> guide_;
-    std::size_t guide_count_ = 0;
+    double first_ = 0.0;              ///< the first boundary (m)
     double bucket_scale_ = 0.0;       ///< buckets per metre
 };
 
