@@ -156,7 +156,8 @@ private:
 
     /// The guide: buckets of equal depth from the first boundary to the last, narrower than
     /// the closest two boundaries (at most max_buckets; beyond that a bucket may hold several
-    /// and exact_interval steps over them), each holding the interval at its shallow edge.
+    /// and exact_interval steps over them), each holding the interval at its shallow edge;
+    /// bucket 0, which also takes every depth above the first boundary, the interval above it.
     /// boundaries_ then ends with +inf, so that the boundary after any interval can be read.
     void build_guide() {
         for (int l : levels_) factors_.push_back(std::ldexp(1.0, l));

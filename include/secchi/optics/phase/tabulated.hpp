@@ -453,11 +453,8 @@ private:
         using Index = IndexOf<Real>;
         const Index base = i * Index(sub_nodes + 1), one(1);
         Index k(0);
-        for (int step = sub_nodes / 2; step >= 1; step /= 2) {
-            const auto below = at(sub_mass_, base + k + Index(step)) <= m;
-            if constexpr (std::is_integral_v<Index>) k += Index(step) * Index(below);  // no branch to mispredict
-            else k = select(below, k + Index(step), k);
-        }
+        for (int step = sub_nodes / 2; step >= 1; step /= 2)
+            k = select(at(sub_mass_, base + k + Index(step)) <= m, k + Index(step), k);
         const Real x0 = sub_node(h, static_cast<Real>(k)), x1 = sub_node(h, static_cast<Real>(k + one));
         const Real m0 = at(sub_mass_, base + k), dm = at(sub_mass_, base + k + one) - m0;
         const Index sub_interval = i * Index(sub_nodes) + k;
