@@ -40,6 +40,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <vector>
 #if defined(__AVX2__)
 #include <immintrin.h>
 #endif
@@ -91,6 +92,59 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Index& index) {
 template <class Table>
 SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
     return lookup(table, stdx::static_simd_cast<Ints>(index));
+}
+
+/// Row index[l] of `rows` for every lane l, as eight vectors: column c's holds each lane's
+/// element c. One load per lane and a transposition in registers (AVX-512: 8 x 8; AVX2: two
+/// 4 x 4 per row half), instead of a gather per column; elsewhere a loop over the lanes.
+SECCHI_KERNEL std::array<Reals, 8> lookup_rows(const std::vector<Row8>& rows, const Reals& index) {
+    alignas(64) std::int64_t i[lane_width];
+    stdx::static_simd_cast<Ints>(index).copy_to(i, aligned);
+    const auto row = [&](int l) { return rows[static_cast<std::size_t>(i[l])].v.data(); };
+#if defined(__AVX512F__)
+    static_assert(lane_width == 8);
+    __m512d r[8], t[8], s[8];
+    for (int l = 0; l < 8; ++l) r[l] = _mm512_load_pd(row(l));
+    for (int l = 0; l < 8; l += 2) {  // t[l]: rows l, l+1 at the even columns; t[l+1]: the odd
+        t[l] = _mm512_unpacklo_pd(r[l], r[l + 1]);
+        t[l + 1] = _mm512_unpackhi_pd(r[l], r[l + 1]);
+    }
+    for (int h = 0; h < 2; ++h) {  // 128-bit pairs of rows 0-3 and 4-7: columns {0, 4} and {2, 6} (+h)
+        s[h] = _mm512_shuffle_f64x2(t[h], t[2 + h], 0b10001000);
+        s[2 + h] = _mm512_shuffle_f64x2(t[h], t[2 + h], 0b11011101);
+        s[4 + h] = _mm512_shuffle_f64x2(t[4 + h], t[6 + h], 0b10001000);
+        s[6 + h] = _mm512_shuffle_f64x2(t[4 + h], t[6 + h], 0b11011101);
+    }
+    std::array<Reals, 8> out;
+    for (int h = 0; h < 2; ++h) {
+        out[0 + h] = Reals(_mm512_shuffle_f64x2(s[h], s[4 + h], 0b10001000));
+        out[4 + h] = Reals(_mm512_shuffle_f64x2(s[h], s[4 + h], 0b11011101));
+        out[2 + h] = Reals(_mm512_shuffle_f64x2(s[2 + h], s[6 + h], 0b10001000));
+        out[6 + h] = Reals(_mm512_shuffle_f64x2(s[2 + h], s[6 + h], 0b11011101));
+    }
+    return out;
+#elif defined(__AVX2__)
+    static_assert(lane_width == 4);
+    std::array<Reals, 8> out;
+    for (int half = 0; half < 8; half += 4) {
+        __m256d r[4];
+        for (int l = 0; l < 4; ++l) r[l] = _mm256_load_pd(row(l) + half);
+        const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]);
+        const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+        out[half + 0] = Reals(_mm256_permute2f128_pd(t0, t2, 0x20));
+        out[half + 1] = Reals(_mm256_permute2f128_pd(t1, t3, 0x20));
+        out[half + 2] = Reals(_mm256_permute2f128_pd(t0, t2, 0x31));
+        out[half + 3] = Reals(_mm256_permute2f128_pd(t1, t3, 0x31));
+    }
+    return out;
+#else
+    alignas(64) double v[8][lane_width];
+    for (int l = 0; l < lane_width; ++l)
+        for (int c = 0; c < 8; ++c) v[c][l] = row(l)[c];
+    std::array<Reals, 8> out;
+    for (int c = 0; c < 8; ++c) out[c] = Reals(v[c], aligned);
+    return out;
+#endif
 }
 
 /// Philox's 64-bit key (two words) and, for the AVX2 rounds, its ten round keys broadcast

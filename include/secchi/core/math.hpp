@@ -2,6 +2,7 @@
 // Vectors through GLM, constants, and the per-event kernels: sin_cos for the azimuth, exp_table
 // for transmittances, and the frame rotation every scattering event needs.
 #include "secchi/core/config.hpp"
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -55,6 +56,13 @@ SECCHI_KERNEL T select(const Mask& m, const T& a, T b) {
         return b;
     }
 }
+
+/// A table row of eight doubles on one cache line (64 bytes, aligned): what one photon's
+/// lookup needs at once, read by photons in lanes with one load per lane
+/// (lanes::lookup_rows).
+struct alignas(64) Row8 {
+    std::array<double, 8> v;
+};
 
 /// The scalar type of a double or float, or of a SIMD vector of them (its value_type): code
 /// written once for both writes its constants as scalar_t<Real>(c), since a vector of floats

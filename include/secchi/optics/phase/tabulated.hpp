@@ -142,8 +142,8 @@ public:
         raw_ = cum_.back();
         require(std::isfinite(raw_) && raw_ > 0.0, "table integral", raw_,
                 "the table has no positive, finite integral under this convention");
-        guide_ = detail::CumulativeGuide(cum_);
         if (convention_ == TabulatedConvention::linear_p) tabulate_sub_nodes();
+        guide_ = detail::CumulativeGuide(guided());
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) narrow_segments_ = narrow_segments_ && width(i) < 0.2;
     }
 
@@ -174,9 +174,12 @@ public:
         double psi;
         if (target < cum_[0]) {
             psi = theta_[0] * std::pow(target / cum_[0], 1.0 / (2.0 - k_));
-        } else {
+        } else if (convention_ == TabulatedConvention::trapezoid) {
             const std::size_t i = guide_.find(cum_, u1, target);
-            psi = std::min(theta_[i] + invert_segment(i, target - cum_[i]), theta_[i + 1]);
+            psi = std::min(theta_[i] + linear_density_root(f_[i], slope_[i], target - cum_[i], width(i), 0.0), theta_[i + 1]);
+        } else {
+            const std::size_t j = guide_.find(sub_cum_, u1, target), i = j / sub_nodes;
+            psi = std::min(theta_[i] + newton_segment(i, j % sub_nodes, target - cum_[i]), theta_[i + 1]);
         }
         return {std::cos(psi), two_pi * u2};
     }
@@ -196,16 +199,21 @@ public:
         if (convention_ == TabulatedConvention::linear_p && !narrow_segments_)
             return Reals([&](auto l) { return sample_direction(u1[l], 0.0).cos_psi; });
         const Reals target = u1 * raw_;
-        const Reals i = guide_.find(cum_, u1, target);
-        const Reals theta = lookup(theta_, i), theta_next = lookup(theta_, i + 1.0);
-        const Reals m = target - lookup(cum_, i);
-        Reals d;
+        Reals psi;
         if (convention_ == TabulatedConvention::trapezoid) {
-            d = linear_density_root(lookup(f_, i), lookup(slope_, i), m, theta_next - theta, Reals(0.0));
+            const Reals i = guide_.find(cum_, u1, target);
+            const Reals theta = lookup(theta_, i), theta_next = lookup(theta_, i + 1.0);
+            const Reals d = linear_density_root(lookup(f_, i), lookup(slope_, i), target - lookup(cum_, i),
+                                                theta_next - theta, Reals(0.0));
+            psi = min(theta + d, theta_next);
         } else {
-            d = newton_segment_lanes(i, m);
+            const Reals j = guide_.find(sub_cum_, u1, target);      // sub-interval j = sub_nodes i + k
+            const Reals i = lanes::stdx::floor(j * (1.0 / sub_nodes));  // exact: sub_nodes is a power of 2
+            const auto segment = lanes::lookup_rows(segment_rows_, i);
+            const Reals theta = segment[segment_theta], theta_next = segment[segment_theta_next];
+            psi = min(theta + newton_segment_lanes(segment, i, j - double(sub_nodes) * i, target - segment[segment_cum]),
+                      theta_next);
         }
-        Reals psi = min(theta + d, theta_next);
         if (const auto power = target < cum_[0]; any_of(power)) {
             // The power law below the first node: psi = theta_0 (target / cum_0)^(1 / (2 - k)), as
             // theta_0 exp(ln(target / cum_0) / (2 - k)) (lanes::log and lanes::exp, 2 ulp each:
@@ -348,12 +356,6 @@ private:
         return (f_[i] * dr + f_[i + 1] * dl) / (h * two_pi * std::sin(psi));
     }
 
-    /// d in [0, width(i)] with segment_mass(i, d) = m.
-    double invert_segment(std::size_t i, double m) const {
-        if (convention_ == TabulatedConvention::trapezoid) return linear_density_root(f_[i], slope_[i], m, width(i), 0.0);
-        return newton_segment(i, m);
-    }
-
     /// Where the mass m is reached from the start of an interval of width w over which the
     /// density is linear, f0 at the start with slope s: f0 d + s d^2 / 2 = m, the root written
     /// without cancellation, d = 2 m / (f0 + sqrt(f0^2 + 2 s m)) (also for s <= 0 or f0 = 0),
@@ -365,27 +367,46 @@ private:
         return select(den > 0.0, min(max(2.0 * m / den, Real(0.0)), w), none);
     }
 
+    /// The cumulative masses the guide searches: per segment (trapezoid), or per sub-interval
+    /// (linear_p: segment i's sub-interval k is entry sub_nodes i + k).
+    [[nodiscard]] const std::vector<double>& guided() const {
+        return convention_ == TabulatedConvention::linear_p ? sub_cum_ : cum_;
+    }
+
     /// linear_p: the exact mass and density (and its inverse) at sub_nodes equal steps across
-    /// each segment; per sub-interval the Newton bound (newton_bound()) and the inverse of its
-    /// mass where first_guess interpolates (else 0).
+    /// each segment, and per sub-interval the Newton bound (newton_bound()) and the inverse of
+    /// its mass where first_guess interpolates (else 0), in one row per sub-interval
+    /// (sub_rows_); the mass below each sub-interval, cum_i + mass_k, with the total last
+    /// (sub_cum_, the guide's table); each segment's own values in a row (segment_rows_).
     void tabulate_sub_nodes() {
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) {
             const double h = width(i);
+            std::array<double, sub_nodes + 1> mass{}, density{}, inverse_density{};
             for (int k = 0; k <= sub_nodes; ++k) {
                 const double x = sub_node(h, double(k));
-                sub_mass_.push_back(k == 0 ? 0.0 : linear_p_mass(i, x, angles(i, x)));
+                mass[k] = k == 0 ? 0.0 : linear_p_mass(i, x, angles(i, x));
                 const double sin_psi = k == sub_nodes ? sin_[i + 1] : detail::sin_angle(theta_[i] + x);
-                sub_density_.push_back(two_pi * (p_[i] + p_slope_[i] * x) * sin_psi);
-                sub_inverse_density_.push_back(sub_density_.back() > 0.0 ? 1.0 / sub_density_.back() : 0.0);
+                density[k] = two_pi * (p_[i] + p_slope_[i] * x) * sin_psi;
+                inverse_density[k] = density[k] > 0.0 ? 1.0 / density[k] : 0.0;
             }
             for (int k = 0; k < sub_nodes; ++k) {
-                const std::size_t j = i * (sub_nodes + 1) + static_cast<std::size_t>(k);
-                sub_bound_.push_back(newton_bound(i, sub_node(h, double(k)), sub_node(h, k + 1.0)));
-                const double dm = sub_mass_[j + 1] - sub_mass_[j];
-                const bool hermite = sub_density_[j] > 0.0 && sub_density_[j + 1] > 0.0 && dm > 0.0;
-                sub_inverse_mass_.push_back(hermite ? 1.0 / dm : 0.0);
+                const double dm = mass[k + 1] - mass[k];
+                const bool hermite = density[k] > 0.0 && density[k + 1] > 0.0 && dm > 0.0;
+                Row8 row;
+                row.v[sub_mass0] = mass[k];
+                row.v[sub_mass1] = mass[k + 1];
+                row.v[sub_inverse_mass] = hermite ? 1.0 / dm : 0.0;
+                row.v[sub_inverse_density0] = inverse_density[k];
+                row.v[sub_inverse_density1] = inverse_density[k + 1];
+                row.v[sub_bound] = newton_bound(i, sub_node(h, double(k)), sub_node(h, k + 1.0));
+                row.v[sub_density0] = density[k];
+                row.v[sub_density1] = density[k + 1];
+                sub_rows_.push_back(row);
+                sub_cum_.push_back(cum_[i] + mass[k]);
             }
+            segment_rows_.push_back({{theta_[i], theta_[i + 1], cum_[i], p_[i], p_slope_[i], sin_[i], cos_[i], 0.0}});
         }
+        sub_cum_.push_back(cum_.back());
     }
 
     /// Offset of sub-node k (0 ... sub_nodes) in a segment of width h; the last is h exactly.
@@ -420,16 +441,17 @@ private:
     template <class Real>
     using IndexOf = std::conditional_t<std::is_floating_point_v<Real>, std::size_t, Real>;
 
-    /// v[j]: for an integer index, or per lane for a vector of them.
+    /// Row j of a table: for an integer index, or per lane for a vector of them (each column
+    /// a vector).
     template <class Index>
-    static auto at(const std::vector<double>& v, const Index& j) {
+    static decltype(auto) row_at(const std::vector<Row8>& rows, const Index& j) {
 #if SECCHI_HAS_LANES
         if constexpr (!std::is_integral_v<Index>) {
-            return lanes::lookup(v, j);
+            return lanes::lookup_rows(rows, j);
         } else
 #endif
         {
-            return v[j];
+            return (rows[j].v);  // a reference
         }
     }
 
@@ -440,28 +462,25 @@ private:
         Real d, x0, x1, bound;
     };
 
-    /// The sub-interval by binary search over the sub-nodes' masses (the last k with mass_k <=
-    /// m), then the inverse of the mass, x(mass), by cubic Hermite interpolation between its
-    /// sub-nodes from their offsets and slopes dx/dmass = 1/f (exact at both ends; off by about
+    /// In the sub-interval k the guide found (the last with cum_i + mass_k <= the target: the
+    /// one that holds the root, except where rounding of that sum puts the target within an ulp
+    /// of a sub-node's mass, where the neighbour's guess is as close), the inverse of the mass,
+    /// x(mass), by cubic Hermite interpolation between its sub-nodes from their offsets and slopes dx/dmass = 1/f (exact at both ends; off by about
     /// 1e-7 of the width with 16 sub-nodes on Petzold's table), with the inverses tabulated.
     /// Where a sub-node's density is 0 (a node at 0 or 180 deg) the guess is the root for a
     /// density linear between the two.
     /// For a double (segment index i), or a vector of them (segment indices as doubles).
     template <class Real>
-    FirstGuess<Real> first_guess(const IndexOf<Real>& i, const Real& h, const Real& m) const {
+    FirstGuess<Real> first_guess(const IndexOf<Real>& i, const IndexOf<Real>& k, const Real& h, const Real& m) const {
         using std::max, std::min;
         using Index = IndexOf<Real>;
-        const Index base = i * Index(sub_nodes + 1), one(1);
-        Index k(0);
-        for (int step = sub_nodes / 2; step >= 1; step /= 2)
-            k = select(at(sub_mass_, base + k + Index(step)) <= m, k + Index(step), k);
-        const Real x0 = sub_node(h, static_cast<Real>(k)), x1 = sub_node(h, static_cast<Real>(k + one));
-        const Real m0 = at(sub_mass_, base + k), dm = at(sub_mass_, base + k + one) - m0;
-        const Index sub_interval = i * Index(sub_nodes) + k;
-        const Real inverse_dm = at(sub_inverse_mass_, sub_interval);
+        const auto& row = row_at(sub_rows_, i * Index(sub_nodes) + k);
+        const Real x0 = sub_node(h, static_cast<Real>(k)), x1 = sub_node(h, static_cast<Real>(k + Index(1)));
+        const Real m0 = row[sub_mass0], dm = row[sub_mass1] - m0;
+        const Real inverse_dm = row[sub_inverse_mass];
         const auto hermite = inverse_dm > 0.0;  // both densities and the mass positive
         const Real s = (m - m0) * inverse_dm;
-        const Real inv0 = at(sub_inverse_density_, base + k), inv1 = at(sub_inverse_density_, base + k + one);
+        const Real inv0 = row[sub_inverse_density0], inv1 = row[sub_inverse_density1];
         const Real interpolated = x0 + s * s * (3.0 - 2.0 * s) * (x1 - x0) + dm * s * (1.0 - s) * ((1.0 - s) * inv0 - s * inv1);
         Real d = min(max(interpolated, x0), x1);
         bool every_hermite;
@@ -471,10 +490,10 @@ private:
             every_hermite = all_of(hermite);
         }
         if (!every_hermite) {
-            const Real f0 = at(sub_density_, base + k), f1 = at(sub_density_, base + k + one);
+            const Real f0 = row[sub_density0], f1 = row[sub_density1];
             d = select(hermite, d, x0 + linear_density_root(f0, (f1 - f0) / (x1 - x0), m - m0, x1 - x0, 0.5 * (x1 - x0)));
         }
-        return {d, x0, x1, at(sub_bound_, sub_interval)};
+        return {d, x0, x1, row[sub_bound]};
     }
 
     /// Whether d - newton (Newton's step from d, residual r, density dens > 0) lies within
@@ -494,9 +513,9 @@ private:
     /// step to end it (converged()); the mass's first and second derivatives, 2 pi (p_i + t d)
     /// sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come with the mass from one sine and
     /// cosine of d/2.
-    double newton_segment(std::size_t i, double m) const {
+    double newton_segment(std::size_t i, std::size_t k, double m) const {
         const double h = width(i), t = p_slope_[i];
-        const FirstGuess<double> g = first_guess(i, h, m);
+        const FirstGuess<double> g = first_guess(i, k, h, m);
         double lo = 0.0, hi = h, d = g.d;
         for (int iter = 0; iter < 200; ++iter) {
             const SegmentAngles<double> a = angles(i, d);
@@ -517,12 +536,13 @@ private:
     /// newton_segment per lane (segment indices i as doubles): the same first guess and the
     /// same safeguarded Halley steps, a lane keeping its root from the step at which its own
     /// iteration ends. Needs narrow_segments_ (angles()' series).
-    lanes::Reals newton_segment_lanes(const lanes::Reals& i, const lanes::Reals& m) const {
-        using lanes::Reals, lanes::lookup, lanes::stdx::max, lanes::stdx::min;
-        const Reals theta = lookup(theta_, i), h = lookup(theta_, i + 1.0) - theta;
-        const Reals p_i = lookup(p_, i), t = lookup(p_slope_, i);
-        const Reals sin_i = lookup(sin_, i), cos_i = lookup(cos_, i);
-        const FirstGuess<Reals> g = first_guess(i, h, m);
+    lanes::Reals newton_segment_lanes(const std::array<lanes::Reals, 8>& segment, const lanes::Reals& i,
+                                      const lanes::Reals& k, const lanes::Reals& m) const {
+        using lanes::Reals, lanes::stdx::max, lanes::stdx::min;
+        const Reals h = segment[segment_theta_next] - segment[segment_theta];
+        const Reals p_i = segment[segment_p], t = segment[segment_p_slope];
+        const Reals sin_i = segment[segment_sin], cos_i = segment[segment_cos];
+        const FirstGuess<Reals> g = first_guess(i, k, h, m);
         Reals d = g.d;
         Reals lo(0.0), hi = h, root = d;
         auto open = d == d;  // lanes still iterating
@@ -533,11 +553,11 @@ private:
             where(open && !(r > 0.0), lo) = d;
             const Reals p = p_i + t * d, dens = two_pi * p * a.sin_psi;
             const Reals newton = newton_step(r, dens, hi - lo);
-            const Reals step = halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
             const auto done = open && converged(g, d, r, dens, newton, h);
             where(done, root) = min(max(d - newton, Reals(0.0)), h);
             open = open && !done;
-            Reals next = d - step;
+            if (none_of(open)) break;
+            Reals next = d - halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
             where(!(next > lo && next < hi), next) = 0.5 * (lo + hi);
             where(open, d) = next;
             const auto bisected = open && hi - lo <= 1e-12 * h;
@@ -555,15 +575,20 @@ private:
     std::vector<double> theta_, p_, f_, cum_;  // nodes (rad), values, 2 pi p sin, mass below node
     std::vector<double> sin_, cos_;            // sin and cos of the nodes (sin exactly 0 at 0 and pi)
     static constexpr int sub_nodes = 16;       // linear_p: sub-segments per segment for first_guess
-    static_assert(std::has_single_bit(static_cast<unsigned>(sub_nodes)), "first_guess's binary search");
-    std::vector<double> sub_mass_, sub_density_;  // linear_p: mass below and density at each sub-node
-    std::vector<double> sub_inverse_density_;     // linear_p: 1 / density at each sub-node (0 where 0)
-    std::vector<double> sub_bound_;               // linear_p: each sub-interval's newton_bound()
-    std::vector<double> sub_inverse_mass_;        // linear_p: 1 / its mass where first_guess interpolates, else 0
+    static_assert(std::has_single_bit(static_cast<unsigned>(sub_nodes)), "a sub-interval's segment by an exact product");
+    // linear_p, per sub-interval: the mass from its segment's start and the density (and its
+    // inverse, 0 where 0) at both ends, the inverse of its mass where first_guess interpolates
+    // (else 0) and its newton_bound().
+    enum SubColumn { sub_mass0, sub_mass1, sub_inverse_mass, sub_inverse_density0, sub_inverse_density1, sub_bound, sub_density0, sub_density1 };
+    std::vector<Row8> sub_rows_;
+    std::vector<double> sub_cum_;                 // linear_p: mass below each sub-interval, then the total
+    // linear_p, per segment: theta_i, theta_{i+1}, cum_i, p_i, p's slope, sin_i, cos_i.
+    enum SegmentColumn { segment_theta, segment_theta_next, segment_cum, segment_p, segment_p_slope, segment_sin, segment_cos };
+    std::vector<Row8> segment_rows_;
     bool narrow_segments_ = true;                 // every segment narrower than 0.2 rad
     std::vector<double> slope_;                // per segment: f's slope (trapezoid)
     std::vector<double> p_slope_;              // per segment: p's slope (linear_p)
-    detail::CumulativeGuide guide_;            // segment search for sample()
+    detail::CumulativeGuide guide_;            // search over guided() for sample()
     double raw_ = 0.0;
 };
 
