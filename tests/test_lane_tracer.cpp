@@ -160,6 +160,19 @@ TEST_CASE("exp in lanes equals exp_table lane by lane") {
     CHECK(worst == 0.0);  // the same operations: the estimator's sums rely on it (test_estimate.cpp)
 }
 
+TEST_CASE("lookup_rows gives every lane its own row, column by column") {
+    std::vector<Row8> rows(1000);
+    for (std::size_t j = 0; j < rows.size(); ++j)
+        for (int c = 0; c < 8; ++c) rows[j].v[c] = static_cast<double>(j) + 0.125 * c;  // exact, unique
+    const auto u = uniforms(4096, 11);
+    for (std::size_t i = 0; i + lane_width <= u.size(); i += lane_width) {
+        const Reals index = lanes_of([&](int l) { return std::floor(u[i + l] * static_cast<double>(rows.size())); });
+        const std::array<Reals, 8> got = lanes::lookup_rows(rows, index);
+        for (int l = 0; l < lane_width; ++l)
+            for (int c = 0; c < 8; ++c) REQUIRE(got[c][l] == rows[static_cast<std::size_t>(index[l])].v[c]);
+    }
+}
+
 // Doubles: PhotonRng's uniforms; floats: the top 24 bits of the same words. Both within (0, 1).
 TEMPLATE_TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's words, bit for bit", "", double, float) {
     using T = TestType;
