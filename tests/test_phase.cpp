@@ -240,24 +240,40 @@ TEST_CASE("tabulated sampling: the guide table finds upper_bound's segment, bit 
         const detail::CumulativeGuide guide(cum);
         std::vector<double> us{0.0, 1.0, std::nextafter(1.0, 0.0)};
         for (int k = 0; k < 100000; ++k) us.push_back(rng.uniform());
-        for (int b = 0; b <= 1 << 14; ++b)
-            for (double u : {b / 16384.0, b / 4096.0, b / 64.0})
-                us.insert(us.end(), {u, std::nextafter(u, 0.0), std::nextafter(u, 1.0)});
+        for (int b = 0; b <= 1 << 16; ++b)  // every bucket's ends, for any guide size up to 2^16
+            for (double u : {b / 65536.0, b / 16384.0, b / 4096.0, b / 64.0})
+                if (u <= 1.0) us.insert(us.end(), {u, std::nextafter(u, 0.0), std::nextafter(u, 1.0)});
         for (double c : cum) {
             const double u = c / cum.back();
             us.insert(us.end(), {u, std::nextafter(u, 0.0), std::nextafter(u, 1.0)});
         }
         long checked = 0;
+        std::vector<double> checked_u;
         for (double u : us) {
             if (!(u >= 0.0 && u <= 1.0)) continue;
             const double target = u * cum.back();
             if (target < cum.front()) continue;  // the sampler's power-law branch
             ++checked;
+            checked_u.push_back(u);
             const std::size_t expected = detail::CumulativeGuide::upper_bound_index(cum, target);
             if (guide.find(cum, u, target) != expected)
                 FAIL("n = " << cum.size() << " u = " << u << ": " << guide.find(cum, u, target) << " != " << expected);
         }
         CHECK(checked > 100000);
+#if SECCHI_HAS_LANES
+        // The lanes' find, with its skip where every lane's bucket is settled: lanes of
+        // neighbouring u (often all settled) and of u far apart (a mix).
+        using lanes::Reals, lanes::lane_width;
+        for (std::size_t stride : {std::size_t{1}, checked_u.size() / lane_width})
+            for (std::size_t i = 0; i + (lane_width - 1) * stride < checked_u.size(); i += stride == 1 ? lane_width : 1) {
+                const Reals u([&](auto l) { return checked_u[i + l * stride]; });
+                const Reals found = guide.find(cum, u, u * cum.back());
+                for (int l = 0; l < lane_width; ++l)
+                    if (found[l] != double(detail::CumulativeGuide::upper_bound_index(cum, u[l] * cum.back())))
+                        FAIL("lanes: n = " << cum.size() << " u = " << u[l] << ": " << found[l]);
+                if (stride != 1 && i >= 20000) break;
+            }
+#endif
     }
 }
 

@@ -68,20 +68,28 @@ inline double sin_angle(double theta) { return theta <= 0.5 * pi ? std::sin(thet
 /// exactly as min(upper_bound(cum, target) - 1, n - 1), in O(1) on average. Bucket b of u,
 /// [b/G, (b+1)/G) with G a power of 2, stores the answer for target (b/G) cum_n. As u >= b/G
 /// exactly and rounding is monotone, every target of the bucket has that answer or a later
-/// one, and a forward scan over cum finds it: 1 + n/G steps on average.
+/// one, and a forward scan over cum finds it. A bucket whose end, target ((b+1)/G) cum_n, has
+/// the same answer is marked settled: all its targets have it, and no scan is needed
+/// (photons in lanes skip the scan's table reads when every lane's bucket is settled). G is
+/// about 16 n (at most 2^16), so most buckets are.
 class CumulativeGuide {
 public:
     CumulativeGuide() = default;
     explicit CumulativeGuide(const std::vector<double>& cum)
-        : start_(std::clamp<std::size_t>(std::bit_ceil(4 * cum.size()), 64, std::size_t{1} << 14)) {
+        : start_(std::clamp<std::size_t>(std::bit_ceil(buckets_per_entry * cum.size()), 64, max_buckets)) {
         const double g = static_cast<double>(start_.size());
-        for (std::size_t b = 0; b < start_.size(); ++b)
-            start_[b] = static_cast<std::uint32_t>(upper_bound_index(cum, (static_cast<double>(b) / g) * cum.back()));
+        for (std::size_t b = 0; b < start_.size(); ++b) {
+            const std::size_t first = upper_bound_index(cum, (static_cast<double>(b) / g) * cum.back());
+            const bool alone = b + 1 < start_.size() && upper_bound_index(cum, (static_cast<double>(b + 1) / g) * cum.back()) == first;
+            start_[b] = static_cast<std::uint32_t>(first) | (alone ? settled : 0u);
+        }
     }
     /// For target = u * cum.back() >= cum.front() (cum as given to the constructor).
     [[nodiscard]] std::size_t find(const std::vector<double>& cum, double u, double target) const {
         const double g = static_cast<double>(start_.size()), scaled = u * g;  // exact
-        std::size_t i = start_[scaled >= 0.0 ? static_cast<std::size_t>(std::min(scaled, g - 1.0)) : 0];
+        const std::uint32_t entry = start_[scaled >= 0.0 ? static_cast<std::size_t>(std::min(scaled, g - 1.0)) : 0];
+        std::size_t i = entry & ~settled;
+        if (entry & settled) return i;
         while (i + 2 < cum.size() && cum[i + 1] <= target) ++i;
         return i;
     }
@@ -92,9 +100,12 @@ public:
         using lanes::Reals, lanes::stdx::max, lanes::stdx::min;
         const double g = static_cast<double>(start_.size());
         Reals i = lanes::lookup(start_, lanes::stdx::floor(min(max(u * g, Reals(0.0)), Reals(g - 1.0))));
+        const auto open = i < double(settled);
+        if (none_of(open)) return i - double(settled);
+        lanes::stdx::where(!open, i) -= double(settled);
         const double last = static_cast<double>(cum.size()) - 2.0;  // i + 2 < cum.size()
-        for (auto more = i < last && lanes::lookup(cum, i + 1.0) <= target; any_of(more);
-             more = i < last && lanes::lookup(cum, i + 1.0) <= target)
+        for (auto more = open && i < last && lanes::lookup(cum, i + 1.0) <= target; any_of(more);
+             more = more && i < last && lanes::lookup(cum, i + 1.0) <= target)
             lanes::stdx::where(more, i) += 1.0;
         return i;
     }
@@ -106,7 +117,9 @@ public:
     }
 
 private:
-    std::vector<std::uint32_t> start_;  // per bucket of u: where the scan starts
+    static constexpr std::size_t buckets_per_entry = 16, max_buckets = std::size_t{1} << 16;
+    static constexpr std::uint32_t settled = 1u << 31;  // flag: every target of the bucket has its start's answer
+    std::vector<std::uint32_t> start_;  // per bucket of u: where the scan starts, and the flag
 };
 }  // namespace detail
 
