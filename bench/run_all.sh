@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every benchmark and writes BENCHMARKS.md-ready markdown.
 #   bash bench/run_all.sh [BUILD_DIR] [OUT_DIR] [--quick]
-# BUILD_DIR (default build) must hold bench/secchi_bench, search_bench and walk_bench (configured
+# BUILD_DIR (default build) must hold bench/secchi_bench, search_bench, walk_bench and phase_bench (configured
 # Release); OUT_DIR (default BUILD_DIR/bench-results) receives results.md (the tables, with
 # machine, date and commands), secchi_bench.json, scaling.csv and scaling.svg (the log-log
 # plot, drawn by bench/plot_scaling.py with python3's standard library).
@@ -50,6 +50,9 @@ run "$build/bench/search_bench" --suite build $quick
 echo "### Propagation against bare random walks" >>"$md"
 echo >>"$md"
 run "$build/bench/walk_bench" $quick
+echo "### Phase samplers" >>"$md"
+echo >>"$md"
+run "$build/bench/phase_bench" ${quick:+--rounds 3}
 echo "Command: \`$build/bench/search_bench --suite scaling $quick --csv $out/scaling.csv\`" >>"$md"
 echo >>"$md"
 "$build/bench/search_bench" --suite scaling $quick --csv "$out/scaling.csv" --md "$out/part.md" >/dev/null

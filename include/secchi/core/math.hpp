@@ -43,13 +43,9 @@ SECCHI_KERNEL double mul_add(double a, double b, double c) {
 
 /// a where m holds, else b: `m ? a : b`, for code written once for doubles and for SIMD
 /// vectors of them (std::experimental::simd, core/lanes.hpp), where it is where(m, b) = a.
-/// For an integer, by arithmetic (no branch to mispredict where m is data, as in a binary
-/// search's steps; unsigned wrap-around leaves b + (a - b) = a).
 template <class Mask, class T>
 SECCHI_KERNEL T select(const Mask& m, const T& a, T b) {
-    if constexpr (std::is_same_v<Mask, bool> && std::is_integral_v<T>) {
-        return static_cast<T>(b + static_cast<T>(m) * (a - b));
-    } else if constexpr (std::is_same_v<Mask, bool>) {
+    if constexpr (std::is_same_v<Mask, bool>) {
         return m ? a : b;
     } else {
         where(m, b) = a;

@@ -19,12 +19,16 @@
 //    (the Petzold table integrates to 1.020). The CDF within a segment,
 //    -a cos psi + b (sin psi - psi cos psi) + const, is inverted from a cubic Hermite guess by
 //    Newton's step where a bound proves it within 1e-12 of the segment's width, else by
-//    safeguarded Halley steps.
+//    safeguarded Halley steps. Each segment is cut into 16 equal sub-intervals; the guide
+//    table finds the sub-interval of u directly, and what the guess and the bound need is one
+//    64-byte row per sub-interval (and per segment), which photons in lanes read with one load
+//    per lane.
 //  * A table ending before 180 deg is extended to 180 deg with its last value.
 // Either way the table is then divided by its exact integral, raw_integral(), so that
 // 2 pi int p sin dpsi = 1.
 #include "secchi/core/config.hpp"
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -192,7 +196,7 @@ public:
             psi = std::min(theta_[i] + linear_density_root(f_[i], slope_[i], target - cum_[i], width(i), 0.0), theta_[i + 1]);
         } else {
             const std::size_t j = guide_.find(sub_cum_, u1, target), i = j / sub_nodes;
-            psi = std::min(theta_[i] + newton_segment(i, j % sub_nodes, target - cum_[i]), theta_[i + 1]);
+            return {newton_segment(i, j % sub_nodes, target - cum_[i]).cos_psi, two_pi * u2};
         }
         return {std::cos(psi), two_pi * u2};
     }
@@ -203,8 +207,8 @@ public:
     /// root run in the vectors, with the same operations as sample_direction, and so does the
     /// power law below the first node (by log and exp); a linear_p table with a segment wider
     /// than 0.2 rad (beyond angles()' series) goes through sample_direction lane by lane.
-    /// cos psi by sin_cos rather than std::cos: within a few ulp of sample_direction
-    /// (tests/test_lane_tracer.cpp).
+    /// cos psi as sample_direction's from a linear_p root, else by sin_cos rather than
+    /// std::cos: within a few ulp of sample_direction (tests/test_lane_tracer.cpp).
     template <class Lanes>
         requires std::same_as<Lanes, lanes::Reals>
     Lanes cos_psi(const Lanes& u1) const {
@@ -212,7 +216,8 @@ public:
         if (convention_ == TabulatedConvention::linear_p && !narrow_segments_)
             return Reals([&](auto l) { return sample_direction(u1[l], 0.0).cos_psi; });
         const Reals target = u1 * raw_;
-        Reals psi;
+        Reals psi, cosine(0.0);
+        auto from_psi = target == target;  // the lanes whose cos psi is still to be taken of psi
         if (convention_ == TabulatedConvention::trapezoid) {
             const Reals i = guide_.find(cum_, u1, target);
             const Reals theta = lookup(theta_, i), theta_next = lookup(theta_, i + 1.0);
@@ -223,9 +228,10 @@ public:
             const Reals j = guide_.find(sub_cum_, u1, target);      // sub-interval j = sub_nodes i + k
             const Reals i = lanes::stdx::floor(j * (1.0 / sub_nodes));  // exact: sub_nodes is a power of 2
             const auto segment = lanes::lookup_rows(segment_rows_, i);
-            const Reals theta = segment[segment_theta], theta_next = segment[segment_theta_next];
-            psi = min(theta + newton_segment_lanes(segment, i, j - double(sub_nodes) * i, target - segment[segment_cum]),
-                      theta_next);
+            const LanesRoot root = newton_segment_lanes(segment, i, j - double(sub_nodes) * i, target - segment[segment_cum]);
+            psi = min(segment[segment_theta] + root.d, segment[segment_theta_next]);
+            cosine = root.cos_psi;
+            from_psi = !root.has_cos;
         }
         if (const auto power = target < cum_[0]; any_of(power)) {
             // The power law below the first node: psi = theta_0 (target / cum_0)^(1 / (2 - k)), as
@@ -237,8 +243,10 @@ public:
             const Reals ratio = max(target / cum_[0], Reals(std::numeric_limits<double>::min()));
             const Reals x = max(lanes::log(ratio) / (2.0 - k_), Reals(-700.0));
             where(power, psi) = theta_[0] * lanes::exp(x);
+            from_psi = from_psi || power;
         }
-        return sin_cos(psi).cos;
+        if (any_of(from_psi)) where(from_psi, cosine) = sin_cos(psi).cos;
+        return cosine;
     }
 #endif
 
@@ -521,12 +529,29 @@ private:
         return (inside && g.bound * r * r <= 1e-12 * h * dens) || abs(newton) <= 1e-12 * h;
     }
 
+    /// cos(x - delta) from the cosine and sine at x (angles()' cos_psi and sin_psi) for the
+    /// last Newton step delta, |delta| < small_step: cos x cos delta + sin x sin delta with
+    /// cos delta = 1 - delta^2/2 (1 - delta^2/12) and sin delta = delta (1 - delta^2/6)
+    /// (truncation below 1e-22). For a double, or a vector of them.
+    static constexpr double small_step = 1e-4;
+    template <class Real>
+    static Real cos_after_step(const SegmentAngles<Real>& a, const Real& delta) {
+        const Real delta2 = delta * delta;
+        return a.cos_psi * (1.0 - 0.5 * delta2 * (1.0 - delta2 / 12.0)) + a.sin_psi * (delta * (1.0 - delta2 / 6.0));
+    }
+
+    /// The root d of a segment's mass and cos psi = cos(theta_i + d).
+    struct SegmentRoot {
+        double d, cos_psi;
+    };
+
     /// Safeguarded Halley iteration (bisection fallback) on segment_mass(i, d) = m, to 1e-12
     /// of the width. It starts from first_guess, usually close enough for the first Newton
     /// step to end it (converged()); the mass's first and second derivatives, 2 pi (p_i + t d)
     /// sin psi and 2 pi (t sin psi + (p_i + t d) cos psi), come with the mass from one sine and
-    /// cosine of d/2.
-    double newton_segment(std::size_t i, std::size_t k, double m) const {
+    /// cosine of d/2, and so does cos psi of the root (cos_after_step(); std::cos where the
+    /// last step was not small or the iteration ended by bisection).
+    SegmentRoot newton_segment(std::size_t i, std::size_t k, double m) const {
         const double h = width(i), t = p_slope_[i];
         const FirstGuess<double> g = first_guess(i, k, h, m);
         double lo = 0.0, hi = h, d = g.d;
@@ -536,29 +561,39 @@ private:
             (r > 0.0 ? hi : lo) = d;
             const double p = p_[i] + t * d, dens = two_pi * p * a.sin_psi;
             const double newton = newton_step(r, dens, hi - lo);
-            if (converged(g, d, r, dens, newton, h)) return std::clamp(d - newton, 0.0, h);
+            if (converged(g, d, r, dens, newton, h)) {
+                const double root = std::clamp(d - newton, 0.0, h), delta = d - root;
+                if (std::abs(delta) < small_step) return {root, cos_after_step(a, delta)};
+                return {root, std::cos(std::min(theta_[i] + root, theta_[i + 1]))};
+            }
             d -= halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
             // Steps leaving the bracket bisect.
             if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
             if (hi - lo <= 1e-12 * h) break;
         }
-        return d;
+        return {d, std::cos(std::min(theta_[i] + d, theta_[i + 1]))};
     }
 
 #if SECCHI_HAS_LANES
     /// newton_segment per lane (segment indices i as doubles): the same first guess and the
     /// same safeguarded Halley steps, a lane keeping its root from the step at which its own
-    /// iteration ends. Needs narrow_segments_ (angles()' series).
-    lanes::Reals newton_segment_lanes(const std::array<lanes::Reals, 8>& segment, const lanes::Reals& i,
-                                      const lanes::Reals& k, const lanes::Reals& m) const {
+    /// iteration ends, and its cos psi where newton_segment takes it from the last step (has_cos).
+    /// Needs narrow_segments_ (angles()' series).
+    struct LanesRoot {
+        lanes::Reals d, cos_psi;
+        lanes::Mask has_cos;
+    };
+    LanesRoot newton_segment_lanes(const std::array<lanes::Reals, 8>& segment, const lanes::Reals& i,
+                                   const lanes::Reals& k, const lanes::Reals& m) const {
         using lanes::Reals, lanes::stdx::max, lanes::stdx::min;
         const Reals h = segment[segment_theta_next] - segment[segment_theta];
         const Reals p_i = segment[segment_p], t = segment[segment_p_slope];
         const Reals sin_i = segment[segment_sin], cos_i = segment[segment_cos];
         const FirstGuess<Reals> g = first_guess(i, k, h, m);
         Reals d = g.d;
-        Reals lo(0.0), hi = h, root = d;
+        Reals lo(0.0), hi = h, root = d, cosine(0.0);
         auto open = d == d;  // lanes still iterating
+        auto has_cos = !open;
         for (int iter = 0; iter < 200 && any_of(open); ++iter) {
             const SegmentAngles<Reals> a = angles(sin_i, cos_i, d);
             const Reals r = linear_p_mass(p_i, t, d, a) - m;
@@ -568,6 +603,10 @@ private:
             const Reals newton = newton_step(r, dens, hi - lo);
             const auto done = open && converged(g, d, r, dens, newton, h);
             where(done, root) = min(max(d - newton, Reals(0.0)), h);
+            const Reals delta = d - root;
+            const auto small = done && abs(delta) < small_step;
+            where(small, cosine) = cos_after_step(a, delta);
+            has_cos = has_cos || small;
             open = open && !done;
             if (none_of(open)) break;
             Reals next = d - halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
@@ -578,7 +617,7 @@ private:
             open = open && !bisected;
         }
         where(open, root) = d;
-        return root;
+        return {root, cosine, has_cos};
     }
 #endif
 
