@@ -486,11 +486,11 @@ private:
     /// In the sub-interval k the guide found (the last with cum_i + mass_k <= the target: the
     /// one that holds the root, except where rounding of that sum puts the target within an ulp
     /// of a sub-node's mass, where the neighbour's guess is as close), the inverse of the mass,
-    /// x(mass), by cubic Hermite interpolation between its sub-nodes from their offsets and slopes dx/dmass = 1/f (exact at both ends; off by about
-    /// 1e-7 of the width with 16 sub-nodes on Petzold's table), with the inverses tabulated.
-    /// Where a sub-node's density is 0 (a node at 0 or 180 deg) the guess is the root for a
-    /// density linear between the two.
-    /// For a double (segment index i), or a vector of them (segment indices as doubles).
+    /// x(mass), by cubic Hermite interpolation between its sub-nodes from their offsets and
+    /// slopes dx/dmass = 1/f (exact at both ends; off by about 1e-7 of the width with 16
+    /// sub-nodes on Petzold's table), with the inverses tabulated. Where a sub-node's density
+    /// is 0 (a node at 0 or 180 deg) the guess is the root for a density linear between the
+    /// two. For a double (segment i, sub-interval k), or a vector of them (indices as doubles).
     template <class Real>
     FirstGuess<Real> first_guess(const IndexOf<Real>& i, const IndexOf<Real>& k, const Real& h, const Real& m) const {
         using std::max, std::min;
