@@ -82,11 +82,10 @@ public:
     explicit CumulativeGuide(const std::vector<double>& cum)
         : start_(std::clamp<std::size_t>(std::bit_ceil(buckets_per_entry * cum.size()), 64, max_buckets)) {
         const double g = static_cast<double>(start_.size());
-        for (std::size_t b = 0; b < start_.size(); ++b) {
-            const std::size_t first = upper_bound_index(cum, (static_cast<double>(b) / g) * cum.back());
-            const bool alone = b + 1 < start_.size() && upper_bound_index(cum, (static_cast<double>(b + 1) / g) * cum.back()) == first;
-            start_[b] = static_cast<std::uint32_t>(first) | (alone ? settled : 0u);
-        }
+        for (std::size_t b = 0; b < start_.size(); ++b)
+            start_[b] = static_cast<std::uint32_t>(upper_bound_index(cum, (static_cast<double>(b) / g) * cum.back()));
+        for (std::size_t b = 0; b + 1 < start_.size(); ++b)  // the next bucket's start is this one's end's answer
+            if (start_[b] == start_[b + 1]) start_[b] |= settled;
     }
     /// For target = u * cum.back() >= cum.front() (cum as given to the constructor).
     [[nodiscard]] std::size_t find(const std::vector<double>& cum, double u, double target) const {
@@ -555,6 +554,7 @@ private:
         const double h = width(i), t = p_slope_[i];
         const FirstGuess<double> g = first_guess(i, k, h, m);
         double lo = 0.0, hi = h, d = g.d;
+        const auto root_at = [&](double root) { return SegmentRoot{root, std::cos(std::min(theta_[i] + root, theta_[i + 1]))}; };
         for (int iter = 0; iter < 200; ++iter) {
             const SegmentAngles<double> a = angles(i, d);
             const double r = linear_p_mass(i, d, a) - m;
@@ -564,14 +564,14 @@ private:
             if (converged(g, d, r, dens, newton, h)) {
                 const double root = std::clamp(d - newton, 0.0, h), delta = d - root;
                 if (std::abs(delta) < small_step) return {root, cos_after_step(a, delta)};
-                return {root, std::cos(std::min(theta_[i] + root, theta_[i + 1]))};
+                return root_at(root);
             }
             d -= halley_step(newton, dens, two_pi * (t * a.sin_psi + p * a.cos_psi));
             // Steps leaving the bracket bisect.
             if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
             if (hi - lo <= 1e-12 * h) break;
         }
-        return {d, std::cos(std::min(theta_[i] + d, theta_[i + 1]))};
+        return root_at(d);
     }
 
 #if SECCHI_HAS_LANES
