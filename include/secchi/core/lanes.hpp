@@ -147,66 +147,93 @@ SECCHI_KERNEL std::array<Reals, 8> lookup_rows(const std::vector<Row8>& rows, co
 #endif
 }
 
-/// Philox's 64-bit key (two words) and, for the AVX2 rounds, its ten round keys broadcast
+#if defined(__AVX512F__) || defined(__AVX2__)
+/// Philox's rounds run on vectors of lane_width 64-bit elements, one lane each, whose low
+/// halves hold the 32-bit words: every multiply of Philox has both factors below 2^32, which
+/// is x86's vpmuludq (32 x 32 -> 64 bits per 64-bit element), one instruction. It reads only
+/// the low half of each element, so the words are not masked to 32 bits between rounds: an
+/// element's low half is the Philox word, its high half junk (mask it to use the word).
+/// (AVX-512DQ's 64-bit multiply, vpmullq, is three micro-ops on Intel cores.)
+namespace philox_vector {
+#if defined(__AVX512F__)
+using Vector = __m512i;
+SECCHI_KERNEL Vector load(const std::uint64_t* p) { return _mm512_loadu_si512(p); }
+SECCHI_KERNEL Vector broadcast(std::uint32_t w) { return _mm512_set1_epi64(static_cast<long long>(w)); }
+SECCHI_KERNEL Vector multiply(Vector a, Vector b) { return _mm512_mul_epu32(a, b); }
+SECCHI_KERNEL Vector high_half(Vector a) { return _mm512_srli_epi64(a, 32); }
+SECCHI_KERNEL Vector xor3(Vector a, Vector b, Vector c) { return _mm512_ternarylogic_epi64(a, b, c, 0x96); }
+/// The doubles 2^52 + word: the high halves replaced by 2^52's bits (which also drops the junk).
+SECCHI_KERNEL Reals two_52_plus(Vector a) {
+    return Reals(_mm512_castsi512_pd(_mm512_mask_blend_epi32(0xAAAA, a, _mm512_set1_epi64(0x4330000000000000ll))));
+}
+/// The words (low halves), packed as lane_width 32-bit integers.
+SECCHI_KERNEL void store_words(Vector a, std::uint32_t* out) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm512_cvtepi64_epi32(a));
+}
+/// uniform_float_from_bits of each word, (w >> 8 + 1/2) 2^-24, to `out` (32-byte aligned).
+SECCHI_KERNEL void store_float_uniforms(Vector a, float* out) {
+    const __m256 top = _mm256_cvtepi32_ps(_mm256_srli_epi32(_mm512_cvtepi64_epi32(a), 8));
+    _mm256_store_ps(out, _mm256_mul_ps(_mm256_add_ps(top, _mm256_set1_ps(0.5f)), _mm256_set1_ps(0x1p-24f)));
+}
+#else
+using Vector = __m256i;
+SECCHI_KERNEL Vector load(const std::uint64_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
+SECCHI_KERNEL Vector broadcast(std::uint32_t w) { return _mm256_set1_epi64x(static_cast<long long>(w)); }
+SECCHI_KERNEL Vector multiply(Vector a, Vector b) { return _mm256_mul_epu32(a, b); }
+SECCHI_KERNEL Vector high_half(Vector a) { return _mm256_srli_epi64(a, 32); }
+SECCHI_KERNEL Vector xor3(Vector a, Vector b, Vector c) { return _mm256_xor_si256(_mm256_xor_si256(a, b), c); }
+SECCHI_KERNEL Reals two_52_plus(Vector a) {
+    return Reals(_mm256_castsi256_pd(_mm256_blend_epi32(a, _mm256_set1_epi64x(0x4330000000000000ll), 0b10101010)));
+}
+SECCHI_KERNEL __m128i low_words(Vector a) {
+    return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(a, _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7)));
+}
+SECCHI_KERNEL void store_words(Vector a, std::uint32_t* out) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), low_words(a));
+}
+SECCHI_KERNEL void store_float_uniforms(Vector a, float* out) {
+    const __m128 top = _mm_cvtepi32_ps(_mm_srli_epi32(low_words(a), 8));
+    _mm_store_ps(out, _mm_mul_ps(_mm_add_ps(top, _mm_set1_ps(0.5f)), _mm_set1_ps(0x1p-24f)));
+}
+#endif
+static_assert(sizeof(Vector) == lane_width * sizeof(std::uint64_t), "one 64-bit element per lane");
+}  // namespace philox_vector
+#endif
+
+/// Philox's 64-bit key (two words) and, for the vector rounds, its ten round keys broadcast
 /// once (per tracer) rather than in every block's rounds (two instructions each, 40 per block).
 struct PhiloxKey {
     explicit PhiloxKey(std::array<std::uint32_t, 2> key) : words(key) {
-#if defined(__AVX2__) && !defined(__AVX512DQ__)
-        for (int r = 0; r < 10; ++r) {
-            round[r][0] = _mm256_set1_epi64x(static_cast<std::uint32_t>(key[0] + r * 0x9E3779B9u));
-            round[r][1] = _mm256_set1_epi64x(static_cast<std::uint32_t>(key[1] + r * 0xBB67AE85u));
+#if defined(__AVX512F__) || defined(__AVX2__)
+        for (std::uint32_t r = 0; r < 10; ++r) {
+            round[r][0] = philox_vector::broadcast(key[0] + r * 0x9E3779B9u);
+            round[r][1] = philox_vector::broadcast(key[1] + r * 0xBB67AE85u);
         }
 #endif
     }
     std::array<std::uint32_t, 2> words;
-#if defined(__AVX2__) && !defined(__AVX512DQ__)
-    __m256i round[10][2];
+#if defined(__AVX512F__) || defined(__AVX2__)
+    philox_vector::Vector round[10][2];
 #endif
 };
 
-#if defined(__AVX512DQ__)
-/// Philox4x32-10 (philox_block, core/rng.hpp) for every lane, on vectors of 64-bit words each
-/// holding a 32-bit word: AVX-512DQ has the 64-bit multiply per lane.
+#if defined(__AVX512F__) || defined(__AVX2__)
+/// Philox4x32-10 (philox_block, core/rng.hpp) for lane_width lanes from their 64-bit block
+/// and stream numbers: x[k]'s element l holds word k of lane l's block in its low half.
 struct PhiloxWords {
-    Words x[4];
+    philox_vector::Vector x[4];
 };
-SECCHI_KERNEL PhiloxWords philox_rounds(const std::uint64_t* block, const std::uint64_t* stream,
-                                        const PhiloxKey& philox_key) {
-    std::array<std::uint32_t, 2> key = philox_key.words;
-    const Words lo32(0xffffffffull), b(block, stdx::element_aligned), i(stream, stdx::element_aligned);
-    PhiloxWords r{{b & lo32, b >> 32, i & lo32, i >> 32}};
-    Words(&x)[4] = r.x;
+SECCHI_KERNEL PhiloxWords philox_rounds(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key) {
+    using namespace philox_vector;
+    const Vector m0 = broadcast(0xD2511F53u), m1 = broadcast(0xCD9E8D57u);
+    const Vector b = load(block), i = load(stream);
+    PhiloxWords r{{b, high_half(b), i, high_half(i)}};
+    Vector(&x)[4] = r.x;
     for (int round = 0; round < 10; ++round) {
-        const Words p0 = x[0] * Words(0xD2511F53ull), p1 = x[2] * Words(0xCD9E8D57ull);
-        x[0] = (p1 >> 32) ^ x[1] ^ Words(key[0]);
-        x[1] = p1 & lo32;
-        x[2] = (p0 >> 32) ^ x[3] ^ Words(key[1]);
-        x[3] = p0 & lo32;
-        key[0] += 0x9E3779B9u;
-        key[1] += 0xBB67AE85u;
-    }
-    return r;
-}
-#elif defined(__AVX2__)
-/// The same rounds for four lanes per 256-bit vector: every multiply has both factors below
-/// 2^32, which is AVX2's vpmuludq (32 x 32 -> 64 bits per 64-bit lane), one instruction. It
-/// reads only the low half of each 64-bit lane, so the words are not masked to 32 bits between
-/// rounds: a lane's low half is the Philox word, its high half junk (mask it to use the word).
-struct PhiloxWords4 {
-    __m256i x[4];
-};
-SECCHI_KERNEL PhiloxWords4 philox_rounds4(const std::uint64_t* block, const std::uint64_t* stream,
-                                          const PhiloxKey& key) {
-    const __m256i m0 = _mm256_set1_epi64x(0xD2511F53ll), m1 = _mm256_set1_epi64x(0xCD9E8D57ll);
-    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block));
-    const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stream));
-    PhiloxWords4 r{{b, _mm256_srli_epi64(b, 32), i, _mm256_srli_epi64(i, 32)}};
-    __m256i(&x)[4] = r.x;
-    for (int round = 0; round < 10; ++round) {
-        const __m256i p0 = _mm256_mul_epu32(x[0], m0), p1 = _mm256_mul_epu32(x[2], m1);
-        x[0] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p1, 32), x[1]), key.round[round][0]);
+        const Vector p0 = multiply(x[0], m0), p1 = multiply(x[2], m1);
+        x[0] = xor3(high_half(p1), x[1], key.round[round][0]);
         x[1] = p1;
-        x[2] = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(p0, 32), x[3]), key.round[round][1]);
+        x[2] = xor3(high_half(p0), x[3], key.round[round][1]);
         x[3] = p0;
     }
     return r;
@@ -216,37 +243,17 @@ SECCHI_KERNEL PhiloxWords4 philox_rounds4(const std::uint64_t* block, const std:
 /// One Philox4x32-10 block per lane (philox_block, core/rng.hpp) from 64-bit block and
 /// stream numbers, as four uniforms per lane: u[k] in lane l is
 /// uniform_from_bits(philox_block(block_l, stream_l, key)[k]) exactly (tests/test_lane_tracer.cpp).
-/// With AVX-512DQ (a 64-bit multiply per lane) the rounds run on vectors of 64-bit words,
-/// each holding a 32-bit word, and a word becomes a double as (2^52 + word) - 2^52 (1.10x
-/// LaneTracer's speed). With AVX2 the same rounds run on 256-bit vectors with vpmuludq, the
-/// 32 x 32 -> 64-bit multiply, as the one multiply each needs: LaneTracer 1.18x on a Zen 3
-/// (docs/design-notes.md); written through std::experimental::simd, GCC makes each a 64-bit
-/// multiply of three instructions, and such rounds are 1.08x slower than the loop below.
-/// Elsewhere a loop of philox_block over the lanes, which GCC vectorises with its
-/// 32 x 32 -> 64-bit multiplies (vector rounds are 1.06x slower with SSE2).
-/// The lanes' block and stream numbers are read from `block` and `stream`, the uniforms
-/// written to u[0..3] (arrays of lane_width doubles, vector-aligned).
+/// With AVX2 or AVX-512 the rounds run in vectors (philox_rounds; LaneTracer 1.18x on a Zen 3
+/// with AVX2, docs/design-notes.md), and a word w becomes a double as (2^52 + w) - (2^52 - 1/2)
+/// = w + 1/2 exactly (Sterbenz), times 2^-32. Elsewhere a loop of philox_block over the lanes,
+/// which GCC vectorises with its 32 x 32 -> 64-bit multiplies (vector rounds are 1.06x slower
+/// with SSE2). The lanes' block and stream numbers are read from `block` and `stream`, the
+/// uniforms written to u[0..3] (arrays of lane_width doubles, vector-aligned).
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             double* const (&u)[4]) {
-#if defined(__AVX512DQ__)
+#if defined(__AVX512F__) || defined(__AVX2__)
     const auto [x] = philox_rounds(block, stream, key);
-    for (int k = 0; k < 4; ++k) {
-        const Reals word = stdx::__proposed::simd_bit_cast<Reals>(x[k] | Words(0x4330000000000000ull)) - 0x1p52;
-        ((word + 0.5) * 0x1p-32).copy_to(u[k], aligned);
-    }
-#elif defined(__AVX2__)
-    static_assert(lane_width % 4 == 0, "with AVX2 the lanes are 4 doubles (or 8, AVX-512F without DQ)");
-    // A word w becomes 2^52 + w by taking the high half from 2^52's bits (a blend, which also
-    // drops the junk), then (2^52 + w) - (2^52 - 1/2) = w + 1/2 exactly (Sterbenz), times 2^-32.
-    const __m256i exponent = _mm256_set1_epi64x(0x4330000000000000ll);
-    for (int g = 0; g < lane_width; g += 4) {
-        const auto [x] = philox_rounds4(block + g, stream + g, key);
-        for (int w = 0; w < 4; ++w) {
-            const __m256d shifted = _mm256_castsi256_pd(_mm256_blend_epi32(x[w], exponent, 0b10101010));
-            _mm256_store_pd(u[w] + g, _mm256_mul_pd(_mm256_sub_pd(shifted, _mm256_set1_pd(0x1p52 - 0.5)),
-                                                    _mm256_set1_pd(0x1p-32)));
-        }
-    }
+    for (int w = 0; w < 4; ++w) ((philox_vector::two_52_plus(x[w]) - (0x1p52 - 0.5)) * 0x1p-32).copy_to(u[w], aligned);
 #else
     for (int l = 0; l < lane_width; ++l) {
         const auto r = philox_block(block[l], stream[l], key.words);
@@ -262,19 +269,10 @@ template <int Width = lane_width>
 inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                          std::uint32_t* const (&bits)[4]) {
     static_assert(Width % lane_width == 0);
-#if defined(__AVX512DQ__)
-    using Words32 = stdx::rebind_simd_t<std::uint32_t, Reals>;
+#if defined(__AVX512F__) || defined(__AVX2__)
     for (int g = 0; g < Width; g += lane_width) {
         const auto [x] = philox_rounds(block + g, stream + g, key);
-        for (int k = 0; k < 4; ++k) stdx::static_simd_cast<Words32>(x[k]).copy_to(bits[k] + g, stdx::element_aligned);
-    }
-#elif defined(__AVX2__)
-    const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    for (int g = 0; g < Width; g += 4) {
-        const auto [x] = philox_rounds4(block + g, stream + g, key);
-        for (int k = 0; k < 4; ++k)
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(bits[k] + g),
-                             _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(x[k], low_halves)));
+        for (int k = 0; k < 4; ++k) philox_vector::store_words(x[k], bits[k] + g);
     }
 #else
     for (int l = 0; l < Width; ++l) {
@@ -286,35 +284,15 @@ inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream
 
 /// philox_uniforms for float lanes (width_of<float> of them): u[k] in lane l is
 /// uniform_float_from_bits(philox_block(block_l, stream_l, key)[k]) exactly
-/// (tests/test_lane_tracer.cpp). With AVX2, the rounds of two groups of four lanes (as for
-/// doubles), their words packed into one vector of eight and made floats there.
+/// (tests/test_lane_tracer.cpp). With AVX2 or AVX-512, the rounds of lane_width lanes at a
+/// time, their words' top 24 bits made floats.
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             float* const (&u)[4]) {
     constexpr int width = width_of<float>;
-#if defined(__AVX512DQ__)
-    // The 64-bit rounds of lane_width lanes at a time, their words' top 24 bits made floats.
-    using Words32 = stdx::rebind_simd_t<std::uint32_t, Reals>;
-    using Floats32 = stdx::rebind_simd_t<float, Reals>;
+#if defined(__AVX512F__) || defined(__AVX2__)
     for (int g = 0; g < width; g += lane_width) {
         const auto [x] = philox_rounds(block + g, stream + g, key);
-        for (int k = 0; k < 4; ++k) {
-            const Floats32 top = stdx::static_simd_cast<Floats32>(stdx::static_simd_cast<Words32>(x[k]) >> 8);
-            ((top + 0.5f) * 0x1p-24f).copy_to(u[k] + g, stdx::element_aligned);
-        }
-    }
-#elif defined(__AVX2__)
-    static_assert(width % 8 == 0);
-    const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    for (int g = 0; g < width; g += 8) {
-        const auto [a] = philox_rounds4(block + g, stream + g, key);
-        const auto [b] = philox_rounds4(block + g + 4, stream + g + 4, key);
-        for (int w = 0; w < 4; ++w) {
-            // Lanes g..g+3 from a's low halves, g+4..g+7 from b's; (w >> 8) + 1/2, times 2^-24.
-            const __m256i words = _mm256_permute2x128_si256(_mm256_permutevar8x32_epi32(a[w], low_halves),
-                                                            _mm256_permutevar8x32_epi32(b[w], low_halves), 0x20);
-            const __m256 top = _mm256_cvtepi32_ps(_mm256_srli_epi32(words, 8));
-            _mm256_store_ps(u[w] + g, _mm256_mul_ps(_mm256_add_ps(top, _mm256_set1_ps(0.5f)), _mm256_set1_ps(0x1p-24f)));
-        }
+        for (int k = 0; k < 4; ++k) philox_vector::store_float_uniforms(x[k], u[k] + g);
     }
 #else
     for (int l = 0; l < width; ++l) {
