@@ -170,10 +170,12 @@ SECCHI_KERNEL Reals two_52_plus(Vector a) {
 SECCHI_KERNEL void store_words(Vector a, std::uint32_t* out) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm512_cvtepi64_epi32(a));
 }
-/// uniform_float_from_bits of each word, (w >> 8 + 1/2) 2^-24, to `out` (32-byte aligned).
-SECCHI_KERNEL void store_float_uniforms(Vector a, float* out) {
-    const __m256 top = _mm256_cvtepi32_ps(_mm256_srli_epi32(_mm512_cvtepi64_epi32(a), 8));
-    _mm256_store_ps(out, _mm256_mul_ps(_mm256_add_ps(top, _mm256_set1_ps(0.5f)), _mm256_set1_ps(0x1p-24f)));
+/// uniform_float_from_bits of each word of two groups of lanes, (w >> 8 + 1/2) 2^-24: a's
+/// lanes then b's, to `out` (2 lane_width floats, vector-aligned).
+SECCHI_KERNEL void store_float_uniforms(Vector a, Vector b, float* out) {
+    const __m512i words = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(a)), _mm512_cvtepi64_epi32(b), 1);
+    const __m512 top = _mm512_cvtepi32_ps(_mm512_srli_epi32(words, 8));
+    _mm512_store_ps(out, _mm512_mul_ps(_mm512_add_ps(top, _mm512_set1_ps(0.5f)), _mm512_set1_ps(0x1p-24f)));
 }
 #else
 using Vector = __m256i;
@@ -191,9 +193,10 @@ SECCHI_KERNEL __m128i low_words(Vector a) {
 SECCHI_KERNEL void store_words(Vector a, std::uint32_t* out) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out), low_words(a));
 }
-SECCHI_KERNEL void store_float_uniforms(Vector a, float* out) {
-    const __m128 top = _mm_cvtepi32_ps(_mm_srli_epi32(low_words(a), 8));
-    _mm_store_ps(out, _mm_mul_ps(_mm_add_ps(top, _mm_set1_ps(0.5f)), _mm_set1_ps(0x1p-24f)));
+SECCHI_KERNEL void store_float_uniforms(Vector a, Vector b, float* out) {
+    const __m256i words = _mm256_set_m128i(low_words(b), low_words(a));
+    const __m256 top = _mm256_cvtepi32_ps(_mm256_srli_epi32(words, 8));
+    _mm256_store_ps(out, _mm256_mul_ps(_mm256_add_ps(top, _mm256_set1_ps(0.5f)), _mm256_set1_ps(0x1p-24f)));
 }
 #endif
 static_assert(sizeof(Vector) == lane_width * sizeof(std::uint64_t), "one 64-bit element per lane");
@@ -284,16 +287,17 @@ inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream
 
 /// philox_uniforms for float lanes (width_of<float> of them): u[k] in lane l is
 /// uniform_float_from_bits(philox_block(block_l, stream_l, key)[k]) exactly
-/// (tests/test_lane_tracer.cpp). With AVX2 or AVX-512, the rounds of lane_width lanes at a
-/// time, their words' top 24 bits made floats.
+/// (tests/test_lane_tracer.cpp). With AVX2 or AVX-512, the rounds of two groups of
+/// lane_width lanes, their words' top 24 bits made floats in one vector.
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             float* const (&u)[4]) {
     constexpr int width = width_of<float>;
 #if defined(__AVX512F__) || defined(__AVX2__)
-    for (int g = 0; g < width; g += lane_width) {
-        const auto [x] = philox_rounds(block + g, stream + g, key);
-        for (int k = 0; k < 4; ++k) philox_vector::store_float_uniforms(x[k], u[k] + g);
-    }
+    static_assert(width == 2 * lane_width);
+    // Both groups' rounds first (independent chains, side by side), then their words together.
+    const auto [a] = philox_rounds(block, stream, key);
+    const auto [b] = philox_rounds(block + lane_width, stream + lane_width, key);
+    for (int k = 0; k < 4; ++k) philox_vector::store_float_uniforms(a[k], b[k], u[k]);
 #else
     for (int l = 0; l < width; ++l) {
         const auto r = philox_block(block[l], stream[l], key.words);
