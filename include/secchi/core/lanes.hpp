@@ -147,7 +147,15 @@ SECCHI_KERNEL std::array<Reals, 8> lookup_rows(const std::vector<Row8>& rows, co
 #endif
 }
 
+// Philox's rounds run in vectors (philox_vector below) where the target has AVX2 or AVX-512;
+// elsewhere, as loops of philox_block over the lanes.
 #if defined(__AVX512F__) || defined(__AVX2__)
+#define SECCHI_PHILOX_VECTOR 1
+#else
+#define SECCHI_PHILOX_VECTOR 0
+#endif
+
+#if SECCHI_PHILOX_VECTOR
 /// Philox's rounds run on vectors of lane_width 64-bit elements, one lane each, whose low
 /// halves hold the 32-bit words: every multiply of Philox has both factors below 2^32, which
 /// is x86's vpmuludq (32 x 32 -> 64 bits per 64-bit element), one instruction. It reads only
@@ -207,7 +215,7 @@ static_assert(sizeof(Vector) == lane_width * sizeof(std::uint64_t), "one 64-bit 
 /// once (per tracer) rather than in every block's rounds (two instructions each, 40 per block).
 struct PhiloxKey {
     explicit PhiloxKey(std::array<std::uint32_t, 2> key) : words(key) {
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if SECCHI_PHILOX_VECTOR
         for (std::uint32_t r = 0; r < 10; ++r) {
             round[r][0] = philox_vector::broadcast(key[0] + r * 0x9E3779B9u);
             round[r][1] = philox_vector::broadcast(key[1] + r * 0xBB67AE85u);
@@ -215,12 +223,12 @@ struct PhiloxKey {
 #endif
     }
     std::array<std::uint32_t, 2> words;
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if SECCHI_PHILOX_VECTOR
     philox_vector::Vector round[10][2];
 #endif
 };
 
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if SECCHI_PHILOX_VECTOR
 /// Philox4x32-10 (philox_block, core/rng.hpp) for lane_width lanes from their 64-bit block
 /// and stream numbers: x[k]'s element l holds word k of lane l's block in its low half.
 struct PhiloxWords {
@@ -254,7 +262,7 @@ SECCHI_KERNEL PhiloxWords philox_rounds(const std::uint64_t* block, const std::u
 /// uniforms written to u[0..3] (arrays of lane_width doubles, vector-aligned).
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             double* const (&u)[4]) {
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if SECCHI_PHILOX_VECTOR
     const auto [x] = philox_rounds(block, stream, key);
     for (int w = 0; w < 4; ++w) ((philox_vector::two_52_plus(x[w]) - (0x1p52 - 0.5)) * 0x1p-32).copy_to(u[w], aligned);
 #else
@@ -272,7 +280,7 @@ template <int Width = lane_width>
 inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                          std::uint32_t* const (&bits)[4]) {
     static_assert(Width % lane_width == 0);
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if SECCHI_PHILOX_VECTOR
     for (int g = 0; g < Width; g += lane_width) {
         const auto [x] = philox_rounds(block + g, stream + g, key);
         for (int k = 0; k < 4; ++k) philox_vector::store_words(x[k], bits[k] + g);
@@ -292,7 +300,7 @@ inline void philox_words(const std::uint64_t* block, const std::uint64_t* stream
 inline void philox_uniforms(const std::uint64_t* block, const std::uint64_t* stream, const PhiloxKey& key,
                             float* const (&u)[4]) {
     constexpr int width = width_of<float>;
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if SECCHI_PHILOX_VECTOR
     static_assert(width == 2 * lane_width);
     // Both groups' rounds first (independent chains, side by side), then their words together.
     const auto [a] = philox_rounds(block, stream, key);
