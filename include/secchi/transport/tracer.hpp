@@ -501,7 +501,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         for (int hits = 1;; ++hits) {
             const SurfaceHit h = surface_.hit_at(p.pos, p.dir, side);
             const bool reflect = rng.uniform() < h.reflectance;
-            p.dir = reflect ? h.reflected : h.transmitted;
+            p.dir = h.direction(reflect);
             const bool in_water = (side == Side::air) != reflect;
             p.pos += surface_.normal_into_water(p.pos.x, p.pos.y) * (in_water ? surface_offset : -surface_offset);
             if (in_water) return true;
@@ -586,7 +586,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             } else {
                 reflect = rng.uniform() < h.reflectance;
             }
-            p.dir = reflect ? h.reflected : h.transmitted;
+            p.dir = h.direction(reflect);
             const bool in_water = from_air != reflect;  // the side the photon is now on
             const bool leaves_surface = in_water ? p.dir.z > 0.0 : p.dir.z < 0.0;
             if (leaves_surface && hidden(p.dir, rng)) {  // the other waves are in its way: it meets the surface again
