@@ -63,7 +63,11 @@ to 60 m) goes to --profile-csv (default iop_profile_3.csv beside the JSON); its 
 importance splits photons each time tau_a grows by mu_i ln 2, mu_i = --importance-cosine
 (default 0.6; 0 turns it off). --backscatter-bias eps (problem 2b: 0.2; the others 0, off)
 draws the scattering angle of a share eps of the events from the phase function's backward
-part, the weights corrected (transport/importance.hpp). Without --photons each
+part, the weights corrected (transport/importance.hpp). --upward-importance eps (default 0,
+off) draws the direction of a share eps of the events from a Henyey-Greenstein lobe of
+asymmetry --upward-lobe g (default 0.9) about straight up, the weights corrected, and stores
+the map's events by their direction (transport/importance.hpp; not with a backscatter bias,
+so 2b needs --backscatter-bias 0 with it). Without --photons each
 problem uses its default budget (see the table printed at the start), times --budget-scale F
 (default 1; at least 1000 photons). --exr (default
 photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
@@ -223,6 +227,8 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     const double importance_cosine = cl.number("importance-cosine", p.importance_cosine);
     if (importance_cosine > 0.0) t.importance = {importance_cosine, p.depths.back()};
     t.backscatter_bias = cl.number("backscatter-bias", p.backscatter_bias);
+    t.upward_importance = cl.number("upward-importance", 0.0);
+    t.upward_lobe = cl.number("upward-lobe", t.upward_lobe);
     cfg.store = parse_store(cl.required_text("store"));
     // LaneTracer for the homogeneous problems without depth importance; the others (1b, 2b and
     // problem 3's stratified water) are PhotonTracer's.
@@ -232,6 +238,10 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     if (t.backscatter_bias > 0.0 && (p.id == "3" || p.phase != "petzold" || cfg.tracer != TracerKind::photon))
         reject("--backscatter-bias", cl.text("backscatter-bias"),
                "problem " + p.id + " cannot take it (PhotonTracer in Petzold water only: problems 2a, 2b, 4, 5, 6)");
+    // Upward importance needs PhotonTracer in homogeneous water.
+    if (t.upward_importance > 0.0 && (p.id == "3" || cfg.tracer != TracerKind::photon))
+        reject("--upward-importance", cl.text("upward-importance"),
+               "problem " + p.id + " cannot take it (PhotonTracer in homogeneous water only: not problem 3 or a lane tracer)");
     cfg.keep_map = p.id == "2a";
     return cfg;
 }
@@ -620,7 +630,7 @@ int main(int argc, char** argv) {
     return run_program(argc, argv, "canonical", usage, [&] {
         const CommandLine cl(argc, argv,
                              {"problem", "photons", "store", "seed", "threads", "json", "exr", "petzold", "material", "material-entry",
-                              "profile-csv", "importance-cosine", "backscatter-bias", "tracer", "facets", "aerosol-g", "aerosol-albedo",
+                              "profile-csv", "importance-cosine", "backscatter-bias", "upward-importance", "upward-lobe", "tracer", "facets", "aerosol-g", "aerosol-albedo",
                               "aerosol-scale-height", "budget-scale"},
                              {"quick"});
         // One problem, all of them, or a comma-separated list (e.g. 1a,1b,2a,2b).

@@ -37,7 +37,7 @@ asan_tests=(test_core test_event_physics test_phase test_transport test_radiance
             test_scene test_sources test_record test_chord_table test_material_file test_images test_stores
             test_iop_absorption test_iop_scattering test_concentration test_refractive_index test_color
             test_periodic_ray test_problem3_profile test_bottom test_geometry test_embree_mesh test_height_field
-            test_backscatter_bias)
+            test_backscatter_bias test_upward_importance)
 tsan_tests=(test_stores test_transport test_estimate test_images)
 jobs=$(nproc)
 step() { echo "clang_tests: $1 ($SECONDS s)"; }  # the seconds since the start, for the log

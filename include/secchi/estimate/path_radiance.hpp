@@ -385,8 +385,11 @@ private:
         });
     }
 
-    /// The flux of a record at depth z relative to the map's per_record (1 / I(z)).
-    [[nodiscard]] double relative_flux(double z) const { return map_.flux().is_uniform() ? 1.0 : map_.flux().at(z) / map_.flux().per_record; }
+    /// The flux of a record relative to the map's per_record (1 / (I(z) D(mu)), record_flux.hpp).
+    [[nodiscard]] double relative_flux(const Record& rec) const {
+        const RecordFlux& f = map_.flux();
+        return f.is_uniform() ? 1.0 : f.at(rec.position().z, rec.direction().z) / f.per_record;
+    }
 
     /// The same sum on a vertical ray: cos psi from the photon's polar code through the table
     /// of the ray's direction (vertical_cosines; bit-identical to the per-photon formula).
@@ -456,7 +459,7 @@ private:
         volume_.gather(map_.store(), ray, radius_, section_, [&](std::uint32_t index, double t, double weight) {
             const auto& rec = records[index];
             if (!one_band && rec.band() != band) return;
-            const double w = map_.flux().is_uniform() ? weight : weight * relative_flux(rec.position().z);
+            const double w = map_.flux().is_uniform() ? weight : weight * relative_flux(rec);
             batch_sums[rec.batch()] += w * in_scatter(rec, t);
             ++touched;
         });

@@ -29,7 +29,7 @@ Image project_photon_map(const Records& records, const RecordFlux& flux, double 
         const auto i = static_cast<long>(std::floor(p.x / section_width * width));
         const auto j = static_cast<long>(std::floor((p.z - top) / (depth - top) * height));
         if (i >= 0 && i < width && j >= 0 && j < height)
-            y[static_cast<std::size_t>(j) * width + static_cast<std::size_t>(i)] += static_cast<float>(flux.at(p.z) / voxel);
+            y[static_cast<std::size_t>(j) * width + static_cast<std::size_t>(i)] += static_cast<float>(flux.at(p.z, r.direction().z) / voxel);
     }
     return image;
 }

@@ -80,6 +80,8 @@ SpectralWater<Store> trace_spectral_map(const std::vector<M>& media, const std::
                 f.per_record, "must be the same in every band (band 0: " + std::to_string(flux->per_record) + ")");
         require(!f.importance.enabled(), "depth importance", "on",
                 "is not available in a spectral run (each band's levels would differ)");
+        require(!f.upward.enabled(), "upward importance", f.upward.share(),
+                "is not available in a spectral run (the bands share one map)");
         results.push_back(std::move(first.result));
         bottom_ed.push_back(first.transport.bottom_ed);
         records.insert(records.end(), first.transport.records.begin(), first.transport.records.end());

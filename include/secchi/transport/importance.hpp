@@ -21,7 +21,9 @@
 // mu_i = 0 turns it off (I = 1 everywhere): the default, and what problems 1, 2, 6 use.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
+#include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -74,6 +76,89 @@ private:
     double share_ = 0.0, begin_ = 0.0, end_ = 1.0;
     double last_backward_ = std::nextafter(1.0, 0.0);  ///< the largest double below end_
     double forward_weight_ = 1.0, backward_weight_ = 1.0;
+};
+
+/// Upward importance, a directional importance for the nadir radiance from the map (Spanier &
+/// Gelbard 1969, importance sampling of the collision kernel; as a mixture with the phase
+/// function, so that no weight grows by more than 1 / (1 - eps) per event: Hesterberg 1995's
+/// defensive importance sampling). Lu at depth is carried by the photons travelling within the
+/// phase function's peak about straight up; where the peak is broad and most light absorbed
+/// (HG g = 0.9, w0 = 0.2) few photons travel there and the estimate is heavy-tailed
+/// (docs/limitations.md).
+///  - Sampling: a share eps of the scattering events draws the new direction from a
+///    Henyey-Greenstein lobe of asymmetry g about straight up (-z: z is depth),
+///    v(mu) = (1 - g^2) / (4 pi (1 + g^2 - 2 g mu)^(3/2)) per steradian, mu the cosine from
+///    straight up; the others from the phase function p. The new direction's density is
+///    q = (1 - eps) p + eps v, and the photon's weight is multiplied by p / q.
+///  - Storage: an event of a photon of weight w arriving with upward cosine mu is stored with
+///    probability w D(mu) (copies where that exceeds 1), D(mu) = (1 - eps) + eps 4 pi v(mu),
+///    and the record carries Phi / D(mu) (transport/record_flux.hpp): the expected stored flux
+///    is w Phi, as without it, with more records of photons travelling up.
+/// Every expectation is unchanged for any eps in [0, 1) and g in [0, 1).
+class UpwardImportance {
+public:
+    UpwardImportance() = default;  ///< off: D = 1, no draws from the lobe
+    /// share: eps in [0, 1); lobe: g in [0, 1).
+    UpwardImportance(double share, double lobe) : share_(checked_share(share)), lobe_(checked_lobe(lobe)) {}
+
+    static double checked_share(double share) {
+        require(std::isfinite(share) && share >= 0.0 && share < 1.0, "upward importance", share,
+                "must be in [0, 1) (0 = off)");
+        return share;
+    }
+    static double checked_lobe(double lobe) {
+        require(std::isfinite(lobe) && lobe >= 0.0 && lobe < 1.0, "upward importance lobe", lobe, "must be in [0, 1)");
+        return lobe;
+    }
+
+    [[nodiscard]] bool enabled() const { return share_ > 0.0; }
+    [[nodiscard]] double share() const { return share_; }
+    [[nodiscard]] double lobe() const { return lobe_.g(); }
+
+    /// Whether a scattering event draws its direction from the lobe (u uniform in [0, 1)).
+    [[nodiscard]] bool from_lobe(double u) const { return u < share_; }
+    /// A direction from the lobe: its cosine from straight up by HG's inverse CDF (u1), its
+    /// azimuth 2 pi u2.
+    [[nodiscard]] vec3 sample(double u1, double u2) const {
+        const double mu = lobe_.cos_psi(u1), s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+        const double phi = two_pi * u2;
+        return {s * std::cos(phi), s * std::sin(phi), -mu};
+    }
+    /// The factor p / q on the weight of a photon scattered into a direction of z component dz,
+    /// p the phase function's density of that direction (per sr). 1 / (1 - eps + eps v / p),
+    /// so that an infinite p (a peak's singular point) gives 1 / (1 - eps).
+    [[nodiscard]] double weight(double phase_density, double dz) const {
+        if (!enabled()) return 1.0;
+        return 1.0 / ((1.0 - share_) + share_ * lobe_.eval(-dz) / phase_density);
+    }
+    /// The new direction of a photon travelling along `before`, and its weight factor p / q:
+    /// from the lobe where u_choice < eps (u_psi, u_phi its uniforms), else turned from
+    /// `before` by the phase function's angles, sample(u_psi, u_phi) -> PhaseDirection;
+    /// density(cos psi): the phase function's density (per sr) of the new direction.
+    struct Scatter {
+        vec3 dir;
+        double weight;
+    };
+    template <class Sample, class Density>
+    [[nodiscard]] Scatter scatter(const vec3& before, double u_choice, double u_psi, double u_phi, Sample&& sample,
+                                  Density&& density) const {
+        vec3 after;
+        if (from_lobe(u_choice)) {
+            after = this->sample(u_psi, u_phi);
+        } else {
+            const PhaseDirection d = sample(u_psi, u_phi);
+            after = rotate_direction(before, d.cos_psi, d.phi);
+        }
+        return {after, weight(density(std::clamp(glm::dot(before, after), -1.0, 1.0)), after.z)};
+    }
+    /// D(mu) of a record whose direction of travel has z component dz.
+    [[nodiscard]] double storage_factor(double dz) const {
+        return enabled() ? (1.0 - share_) + share_ * 4.0 * pi * lobe_.eval(-dz) : 1.0;
+    }
+
+private:
+    double share_ = 0.0;
+    HenyeyGreensteinPhase lobe_{0.0};
 };
 
 /// A phase function that names the uniforms of its inverse CDF that scatter backward.

@@ -113,6 +113,8 @@ private:
         require(!s.surface_map, "surface map", "on", "is not kept by LaneTracer; use PhotonTracer");
         require(s.backscatter_bias == 0.0, "backscatter bias", s.backscatter_bias,
                 "is not drawn by LaneTracer; use PhotonTracer");
+        require(s.upward_importance == 0.0, "upward importance", s.upward_importance,
+                "is not drawn by LaneTracer; use PhotonTracer");
         return s;
     }
 

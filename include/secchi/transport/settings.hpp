@@ -75,6 +75,11 @@ struct TransportSettings {
     /// The share of scattering events whose angle is drawn from the phase function's backward
     /// part, their weights corrected (importance.hpp, BackscatterBias); 0 = off (the default).
     double backscatter_bias = 0.0;
+    /// The share of scattering events whose direction is drawn from a lobe about straight up,
+    /// and the stored events' flux set by their direction (importance.hpp, UpwardImportance);
+    /// 0 = off (the default). upward_lobe: the lobe's Henyey-Greenstein asymmetry.
+    double upward_importance = 0.0;
+    double upward_lobe = 0.9;
 
     void validate() const {
         require(photons > 0, "photons", photons, "must be > 0");
@@ -93,6 +98,10 @@ struct TransportSettings {
         importance.validate();
         require(std::isfinite(backscatter_bias) && backscatter_bias >= 0.0 && backscatter_bias < 1.0, "backscatter bias",
                 backscatter_bias, "must be in [0, 1) (0 = off)");
+        UpwardImportance::checked_share(upward_importance);
+        UpwardImportance::checked_lobe(upward_lobe);
+        require(upward_importance == 0.0 || backscatter_bias == 0.0, "upward importance", upward_importance,
+                "cannot be combined with a backscatter bias (both bias the scattering direction)");
     }
 };
 

@@ -164,7 +164,8 @@ public:
           geometry_(checked_geometry(std::move(geometry), slab, surface)), grid_(s_.bottom_bins, slab.width()),
           detectors_(s_.depths, s_.grazing_cosine, slab.floor_depth()),
           physics_(s_, slab.floor_depth(), surface_top(surface)), importance_on_(s_.importance.enabled()),
-          levels_(s_.importance, medium), bias_(backscatter_bias(medium, s_)), w0_(albedo_at(medium, 0.0)),
+          levels_(s_.importance, medium), bias_(backscatter_bias(medium, s_)), upward_(upward_importance(s_)),
+          w0_(albedo_at(medium, 0.0)),
           sun_direction_(source.beam_direction()),
           sun_hit_(fixed_sun_hit(surface, sun_direction_)) {
         if constexpr (wavy) check_wave(surface, slab, source, s_);
@@ -697,15 +698,52 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         if (slot.stores) store_event(p, rng, out, slot.batch);
         ++p.order;
         const double u_psi = rng.uniform(), u_phi = rng.uniform();
+        if constexpr (depth_independent<M>) {  // (upward importance is refused for any other medium)
+            if (upward_.enabled()) {
+                scatter_upward(p, rng, u_psi, u_phi, out.ledger);
+                return roulette(p, rng, out.ledger);
+            }
+        }
         const BackscatterBias::Draw draw = bias_.draw(u_psi);
         const ScatteringAngles<double> angles = EventPhysics::angles(medium_, p.pos.z, draw.u, u_phi);
         p.dir = rotate_direction(p.dir, angles.cos_psi, angles.phi);
-        if (draw.weight != 1.0) {  // the biased draw's weight 1 / q (importance.hpp), booked as roulette's
-            const double w = p.w * draw.weight;
-            (w > p.w ? out.ledger.roulette_gained : out.ledger.roulette_killed) += std::abs(w - p.w);
-            p.w = w;
-        }
+        reweight(p, draw.weight, out.ledger);
         return roulette(p, rng, out.ledger);
+    }
+
+    /// A biased draw's weight factor (1 / q, importance.hpp) on the photon, booked as roulette's.
+    static void reweight(PhotonState& p, double factor, EnergyLedger& ledger) {
+        if (factor == 1.0) return;
+        const double w = p.w * factor;
+        (w > p.w ? ledger.roulette_gained : ledger.roulette_killed) += std::abs(w - p.w);
+        p.w = w;
+    }
+
+    /// The new direction under upward importance (importance.hpp): from the lobe about straight
+    /// up with probability eps (one more uniform), else from the phase function; the weight
+    /// times p / q, p the phase function's density of the new direction.
+    void scatter_upward(PhotonState& p, PhotonRng& rng, double u_psi, double u_phi, EnergyLedger& ledger) const
+        requires depth_independent<M>
+    {
+        const auto phase_angles = [&](double u1, double u2) {
+            const ScatteringAngles<double> a = EventPhysics::angles(medium_, p.pos.z, u1, u2);
+            return PhaseDirection{a.cos_psi, a.phi};
+        };
+        const auto density = [&](double cos_psi) { return medium_.phase().pdf(cos_psi); };
+        const UpwardImportance::Scatter s = upward_.scatter(p.dir, rng.uniform(), u_psi, u_phi, phase_angles, density);
+        p.dir = s.dir;
+        reweight(p, s.weight, ledger);
+    }
+
+    /// The settings' upward importance (importance.hpp), for homogeneous water (the phase
+    /// function's density at the scattering point: one phase function); refused for any other.
+    static UpwardImportance upward_importance(const TransportSettings& s) {
+        if (s.upward_importance == 0.0) return {};
+        if constexpr (depth_independent<M>) {
+            return UpwardImportance(s.upward_importance, s.upward_lobe);
+        } else {
+            reject("upward importance", s.upward_importance, "needs homogeneous water (one phase function)");
+        }
     }
 
     /// The settings' backscatter bias (importance.hpp) for a depth-independent medium whose
@@ -721,14 +759,15 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         }
     }
 
-    /// Stores the scattering event by the equal-flux rule (EventPhysics::keeps). With depth
-    /// importance, EventPhysics::copies records, each carrying Phi / I(z) (importance.hpp).
+    /// Stores the scattering event by the equal-flux rule (EventPhysics::keeps). With depth or
+    /// upward importance, EventPhysics::copies records, each carrying Phi / (I(z) D(mu))
+    /// (importance.hpp).
     /// Events below the map's depth are not stored; they draw their uniform all the same, so
     /// that the photon's later draws do not depend on that depth.
     void store_event(const PhotonState& p, PhotonRng& rng, detail::BlockResult<Record>& out,
                      std::uint8_t map_batch) const {
         const Record rec = record_of(p, map_batch);
-        if (!importance_on_) {
+        if (!importance_on_ && !upward_.enabled()) {
             const double u = physics_.storage_draws() ? rng.uniform() : 0.0;
             if (p.w > 1.0) {  // (after a glossy reflection) floor(w) records, one more with probability frac(w)
                 const double copies = EventPhysics::copies(p.w, 1.0, u);
@@ -739,8 +778,9 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             }
             return;
         }
-        // The flux a record carries is set by its stored (rounded) depth: use the same here.
-        const double copies = EventPhysics::copies(p.w, levels_.factor(rec.position().z), rng.uniform());
+        // The flux a record carries is set by its stored (rounded) depth and direction: use the same here.
+        const double importance = levels_.factor(rec.position().z) * upward_.storage_factor(rec.direction().z);
+        const double copies = EventPhysics::copies(p.w, importance, rng.uniform());
         if (!physics_.in_map(p.pos.z)) return;
         for (double i = 0; i < copies; ++i) out.records.push_back(rec);
     }
@@ -814,7 +854,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         r.map_photons = s_.map_photons;
         r.batches = s_.batches;
         r.map_flux = {s_.map_photons ? ed0 * slab_.width() * slab_.width() / static_cast<double>(s_.map_photons) : 0.0,
-                      levels_, s_.map_depth};
+                      levels_, s_.map_depth, upward_};
         return r;
     }
 
@@ -830,6 +870,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     bool importance_on_;
     ImportanceLevels levels_;
     BackscatterBias bias_;  ///< the scattering angle's biased draw (off by default)
+    UpwardImportance upward_;  ///< the direction's draw from a lobe about straight up, and storage by direction (off by default)
     double w0_;  ///< the albedo of a depth-independent medium
     vec3 sun_direction_;                 ///< of the photons of the source's collimated beam
     std::optional<SurfaceHit> sun_hit_;  ///< their hit, where it is the same for all (a flat surface)
