@@ -20,7 +20,8 @@ inline constexpr const char* usage_text = R"(usage: slab --phase {phases} --albe
             | --slope-variance S2] [--facets {facets}] [--shadowing {shadowings}]
             [--bottom-depth TAU --bottom-albedo A]
             --depths 0,1,5,10 --photons N --seed S --threads T --store {stores}
-            [--radius R] [--steps K] --json FILE
+            [--radius R] [--steps K] [--importance-cosine MU] [--backscatter-bias EPS]
+            [--upward-importance EPS [--upward-lobe G]] --json FILE
 Phase functions (--phase NAME, or NAME:X with the parameter X; the same names are a material
 file's ADD_PHASE_FUNCTION_MODEL TYPEs):
 {phase-table}Depths and lengths are optical (c = 1 /m). Defaults:
@@ -59,6 +60,15 @@ file's ADD_PHASE_FUNCTION_MODEL TYPEs):
   --tracer {tracers} (default photon; lanes: photons in SIMD lanes, the same
                estimates, faster when built for AVX2 or better, e.g. -march=native;
                lanes-float: in float lanes, twice as many per vector)
+Variance reduction (transport/importance.hpp; PhotonTracer only, each off by default):
+  --importance-cosine 0 (depth importance: photons split each time the absorption optical
+               depth grows by mu_i ln 2, down to the deepest of --depths; 1 for deep detectors)
+  --backscatter-bias 0 (a share of the scattering angles drawn from the phase function's
+               backward part: the upwelling irradiances at depth)
+  --upward-importance 0 --upward-lobe 0.9 (a share of the scattering directions drawn from a
+               lobe of this Henyey-Greenstein g about straight up, the map stored by direction:
+               the nadir radiance where the phase function's peak is broad; not with
+               --backscatter-bias)
 )";
 
 /// How --wind sets the facet slopes: Cox and Munk's isotropic fit or their anisotropic one.
@@ -137,6 +147,11 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.ray_grid = cl.unsigned_count("ray-grid", 10);
     cfg.section_width = cl.number("section-width", 1.0);
     cfg.shards = cl.unsigned_count("shards", 1);
+    if (const double mu_i = cl.number("importance-cosine", 0.0); mu_i != 0.0)
+        t.importance = {mu_i, t.depths.empty() ? 0.0 : *std::max_element(t.depths.begin(), t.depths.end())};
+    t.backscatter_bias = cl.number("backscatter-bias", 0.0);
+    t.upward_importance = cl.number("upward-importance", 0.0);
+    t.upward_lobe = cl.number("upward-lobe", t.upward_lobe);
     return cfg;
 }
 
@@ -162,7 +177,8 @@ inline secchi::CommandLine command_line(int argc, char** argv) {
                                 "wind-azimuth", "facets", "shadowing", "bottom-depth", "bottom-albedo",
                                 "depths", "photons", "map-photons", "seed", "threads", "batches", "absorption",
                                 "store", "radius", "steps", "omega", "ray-transmittance", "cone-peak", "ray-grid", "section-width",
-                                "tracer", "shards", "json"});
+                                "tracer", "shards", "importance-cosine", "backscatter-bias", "upward-importance", "upward-lobe",
+                                "json"});
 }
 
 }  // namespace secchi::examples::slab

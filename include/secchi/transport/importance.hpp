@@ -1,7 +1,10 @@
 #pragma once
 // Depth importance: geometric splitting and Russian roulette between depth levels, the
 // standard variance reduction for deep penetration (Spanier & Gelbard 1969; Lux & Koblinger
-// 1991, ch. 7), so that deep detectors and the deep photon map keep photons.
+// 1991, ch. 7), so that deep detectors and the deep photon map keep photons. Below it, two
+// directional importances for the scattering direction: BackscatterBias (the light going back
+// up, for the upwelling irradiances) and UpwardImportance (the light travelling straight up,
+// for the nadir radiance from the map).
 //
 // Importance I(z) = 2^L(z), with the level
 //     L(z) = floor( tau_a(z) / (mu_i ln 2) )                          for z <= z_max,
