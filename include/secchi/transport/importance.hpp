@@ -92,7 +92,12 @@ private:
 ///    Henyey-Greenstein lobe of asymmetry g about straight up (-z: z is depth),
 ///    v(mu) = (1 - g^2) / (4 pi (1 + g^2 - 2 g mu)^(3/2)) per steradian, mu the cosine from
 ///    straight up; the others from the phase function p. The new direction's density is
-///    q = (1 - eps) p + eps v, and the photon's weight is multiplied by p / q.
+///    q = (1 - eps) p + eps v, and the photon's weight is multiplied by p / q. The factors
+///    compound over a photon's scatterings (p / q = 1 / (1 - eps) away from the lobe), so
+///    PhotonTracer draws from the mixture only for a photon whose weight relative to its depth
+///    level is at most 1 and from p alone otherwise (the choice depends on the state before
+///    the event only): no weight then exceeds 1 / (1 - eps) times its level's. Without that
+///    rule, in water of albedo 0.99 (about 100 scatterings per photon) Lu read 30 % low.
 ///  - Storage: an event of a photon of weight w arriving with upward cosine mu is stored with
 ///    probability w D(mu) (copies where that exceeds 1), D(mu) = (1 - eps) + eps 4 pi v(mu),
 ///    and the record carries Phi / D(mu) (transport/record_flux.hpp): the expected stored flux

@@ -699,7 +699,10 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         ++p.order;
         const double u_psi = rng.uniform(), u_phi = rng.uniform();
         if constexpr (depth_independent<M>) {  // (upward importance is refused for any other medium)
-            if (upward_.enabled()) {
+            // Only for a photon whose weight relative to its level is at most 1, so that no
+            // weight exceeds 1 / (1 - eps) there (importance.hpp: the mixture's weights would
+            // otherwise compound over many scatterings).
+            if (upward_.enabled() && std::ldexp(p.w, p.level) <= 1.0) {
                 scatter_upward(p, rng, u_psi, u_phi, out.ledger);
                 return roulette(p, rng, out.ledger);
             }
