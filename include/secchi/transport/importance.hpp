@@ -96,8 +96,8 @@ private:
 ///    compound over a photon's scatterings (p / q = 1 / (1 - eps) away from the lobe), so
 ///    PhotonTracer draws from the mixture only for a photon whose weight relative to its depth
 ///    level is at most 1 and from p alone otherwise (the choice depends on the state before
-///    the event only): no weight then exceeds 1 / (1 - eps) times its level's. Without that
-///    rule, in water of albedo 0.99 (about 100 scatterings per photon) Lu read 30 % low.
+///    the event only): no weight then exceeds 1 / (1 - eps) times its level's, however many
+///    times the photon scatters (tests/test_exact_references.cpp, albedo 0.99).
 ///  - Storage: an event of a photon of weight w arriving with upward cosine mu is stored with
 ///    probability w D(mu) (copies where that exceeds 1), D(mu) = (1 - eps) + eps 4 pi v(mu),
 ///    and the record carries Phi / D(mu) (transport/record_flux.hpp): the expected stored flux
@@ -141,20 +141,20 @@ public:
     }
     /// The new direction of a photon travelling along `before`, and its weight factor p / q:
     /// from the lobe where u_choice < eps (u_psi, u_phi its uniforms), else turned from
-    /// `before` by the phase function's angles, sample(u_psi, u_phi) -> PhaseDirection;
+    /// `before` by the phase function's angles, phase_angles(u_psi, u_phi) -> PhaseDirection;
     /// density(cos psi): the phase function's density (per sr) of the new direction.
     struct Scatter {
         vec3 dir;
         double weight;
     };
-    template <class Sample, class Density>
-    [[nodiscard]] Scatter scatter(const vec3& before, double u_choice, double u_psi, double u_phi, Sample&& sample,
-                                  Density&& density) const {
+    template <class PhaseAngles, class Density>
+    [[nodiscard]] Scatter scatter(const vec3& before, double u_choice, double u_psi, double u_phi,
+                                  PhaseAngles&& phase_angles, Density&& density) const {
         vec3 after;
         if (from_lobe(u_choice)) {
-            after = this->sample(u_psi, u_phi);
+            after = sample(u_psi, u_phi);
         } else {
-            const PhaseDirection d = sample(u_psi, u_phi);
+            const PhaseDirection d = phase_angles(u_psi, u_phi);
             after = rotate_direction(before, d.cos_psi, d.phi);
         }
         return {after, weight(density(std::clamp(glm::dot(before, after), -1.0, 1.0)), after.z)};
