@@ -300,4 +300,13 @@ private:
     double bucket_scale_ = 0.0;       ///< buckets per metre
 };
 
+/// The importance of a record stored at depth z travelling with z component dz: I(z) D(-dz),
+/// the records the first pass stores per unit of photon weight there, each carrying Phi / that
+/// (transport/record_flux.hpp). The tracer's storage and the estimator's flux both take it from
+/// the record's stored (rounded) depth and direction, through this one product, so that they
+/// agree bit for bit.
+inline double record_importance(const ImportanceLevels& levels, const UpwardImportance& upward, double z, double dz) {
+    return levels.factor(z) * upward.storage_factor(dz);
+}
+
 }  // namespace secchi

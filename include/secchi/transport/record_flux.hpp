@@ -31,7 +31,7 @@ struct RecordFlux {
     [[nodiscard]] bool is_uniform() const { return !importance.enabled() && !upward.enabled(); }
     /// The flux of a record stored at depth z travelling with z component dz: Phi / (I(z) D(-dz)).
     [[nodiscard]] double at(double z, double dz) const {
-        return is_uniform() ? per_record : per_record / (importance.factor(z) * upward.storage_factor(dz));
+        return is_uniform() ? per_record : per_record / record_importance(importance, upward, z, dz);
     }
 };
 

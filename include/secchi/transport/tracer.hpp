@@ -782,7 +782,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             return;
         }
         // The flux a record carries is set by its stored (rounded) depth and direction: use the same here.
-        const double importance = levels_.factor(rec.position().z) * upward_.storage_factor(rec.direction().z);
+        const double importance = record_importance(levels_, upward_, rec.position().z, rec.direction().z);
         const double copies = EventPhysics::copies(p.w, importance, rng.uniform());
         if (!physics_.in_map(p.pos.z)) return;
         for (double i = 0; i < copies; ++i) out.records.push_back(rec);
