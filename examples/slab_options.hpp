@@ -60,9 +60,12 @@ file's ADD_PHASE_FUNCTION_MODEL TYPEs):
   --tracer {tracers} (default photon; lanes: photons in SIMD lanes, the same
                estimates, faster when built for AVX2 or better, e.g. -march=native;
                lanes-float: in float lanes, twice as many per vector)
-Variance reduction (transport/importance.hpp; PhotonTracer only, each off by default):
-  --importance-cosine 0 (depth importance: photons split each time the absorption optical
-               depth grows by mu_i ln 2, down to the deepest of --depths; 1 for deep detectors)
+Variance reduction (transport/importance.hpp; PhotonTracer only):
+  --importance-cosine auto (depth importance: photons split each time the absorption optical
+               depth grows by mu_i ln 2, down to the deepest of --depths, and are rouletted
+               below it; auto: mu_i = 1 where the water absorbs an optical depth of ln 2 or more
+               down to the deepest detector, else off; 0: off)
+The others are off by default:
   --backscatter-bias 0 (a share of the scattering angles drawn from the phase function's
                backward part: the upwelling irradiances at depth)
   --upward-importance 0 --upward-lobe 0.9 (a share of the scattering directions drawn from a
@@ -147,8 +150,10 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.ray_grid = cl.unsigned_count("ray-grid", 10);
     cfg.section_width = cl.number("section-width", 1.0);
     cfg.shards = cl.unsigned_count("shards", 1);
-    if (const double mu_i = cl.number("importance-cosine", 0.0); mu_i != 0.0)
-        t.importance = {mu_i, t.depths.empty() ? 0.0 : *std::max_element(t.depths.begin(), t.depths.end())};
+    cfg.auto_importance = cl.text("importance-cosine", "auto") == "auto";
+    if (!cfg.auto_importance)
+        if (const double mu_i = cl.number("importance-cosine", 0.0); mu_i != 0.0)
+            t.importance = {mu_i, t.depths.empty() ? 0.0 : *std::max_element(t.depths.begin(), t.depths.end())};
     t.backscatter_bias = cl.number("backscatter-bias", 0.0);
     t.upward_importance = cl.number("upward-importance", 0.0);
     t.upward_lobe = cl.number("upward-lobe", t.upward_lobe);

@@ -15,6 +15,7 @@ inline void print_table(const secchi::PlaneParallelResult& r) {
                 static_cast<unsigned long long>(r.photons_stored), r.seconds);
     std::printf("first pass %.3f s, map build %.3f s, Lu %.3f s\n", r.seconds_transport, r.seconds_build,
                 r.seconds_collect);
+    std::printf("depth importance: %s\n", r.importance_choice.c_str());
     std::printf("%6s  %-21s %-21s %-21s %-21s %-21s\n", "tau", "Ed (se)", "Eu (se)", "Eod (se)", "Eou (se)", "Lu (se)");
     for (const auto& d : r.depths) {
         std::printf("%6.2f", d.depth);
@@ -48,6 +49,11 @@ inline void write_json(const secchi::PlaneParallelResult& r, secchi::OutputFile&
         .value("mean_cosine", r.moments.mean_cosine)
         .value("backscatter_fraction", r.moments.backscatter_fraction)
         .value("normalisation_integral", r.moments.normalisation)
+        .end_object();
+    j.begin_object("depth_importance")
+        .value("cosine", r.importance.cosine)
+        .value("max_depth", r.importance.max_depth)
+        .value("chosen", r.importance_choice)
         .end_object();
     j.begin_array("depths");
     const char* names[] = {"Ed", "Eu", "Eod", "Eou"};

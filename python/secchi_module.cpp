@@ -20,6 +20,7 @@
 #include <secchi/solver/phase_choice.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -73,6 +74,7 @@ struct ProblemArgs {
     unsigned threads = 1, batches = 32;
     std::string absorption = "continuous";
     double radius = 0.05, omega = 0.005;
+    std::optional<double> importance_cosine;  ///< None: slab's auto (PlaneParallelConfig::auto_importance)
 
     [[nodiscard]] secchi::PlaneParallelConfig config(const WaterChoice& water) const {
         water.check();
@@ -98,6 +100,9 @@ struct ProblemArgs {
         t.absorption = secchi::parse_absorption(absorption);
         cfg.radius = radius;
         cfg.omega = omega;
+        cfg.auto_importance = !importance_cosine;
+        if (importance_cosine && *importance_cosine != 0.0)
+            t.importance = {*importance_cosine, depths.empty() ? 0.0 : *std::max_element(depths.begin(), depths.end())};
         return cfg;
     }
 };
@@ -112,13 +117,13 @@ py::array_t<double> array_of(const std::vector<double>& v) {
 struct Result {
     py::array_t<double> depths, ed, ed_se, eu, eu_se, eod, eod_se, eou, eou_se;
     py::object lu, lu_se;  ///< None where no second pass ran (a photon map's first pass)
-    std::string phase, source;
+    std::string phase, source, depth_importance;
     std::uint64_t photons_traced = 0, photons_stored = 0;
     double seconds = 0.0;
 
     Result(const secchi::PlaneParallelResult& r, bool with_lu)
-        : phase(r.phase_name), source(r.source_name), photons_traced(r.photons_traced),
-          photons_stored(r.photons_stored), seconds(r.seconds) {
+        : phase(r.phase_name), source(r.source_name), depth_importance(r.importance_choice),
+          photons_traced(r.photons_traced), photons_stored(r.photons_stored), seconds(r.seconds) {
         std::vector<double> z;
         std::array<std::vector<double>, 4> value, se;
         std::vector<double> lu_value, lu_err;
@@ -307,11 +312,12 @@ auto problem_function(F f) {
                std::optional<double> wind, std::optional<double> bottom_depth, double bottom_albedo,
                std::vector<double> depths, std::uint64_t photons, std::optional<std::uint64_t> map_photons,
                std::optional<double> map_depth, std::uint64_t seed, unsigned threads, unsigned batches,
-               std::string absorption, double radius, double omega, Extra... extra) {
+               std::string absorption, double radius, double omega, std::optional<double> importance_cosine,
+               Extra... extra) {
         return f(WaterChoice{std::move(phase), albedo, attenuation, water},
                  ProblemArgs{sun_zenith, sky, water_index, wind, bottom_depth, map_depth, bottom_albedo,
                              std::move(depths), photons, map_photons, seed, threads, batches, std::move(absorption),
-                             radius, omega},
+                             radius, omega, importance_cosine},
                  std::move(extra)...);
     };
 }
@@ -342,6 +348,9 @@ Monte Carlo:
   absorption="continuous"  )");
     s.append(secchi::usage_names(secchi::absorption_names())).append(R"(
   radius=0.05          the collection radius (m); omega=0.005: the collection solid angle (sr)
+  importance_cosine=None  depth importance's mu_i (0: off); None: slab's auto, mu_i = 1
+                       where the water absorbs an optical depth of ln 2 or more down to the
+                       deepest of `depths` (Result.depth_importance says what was used)
 Invalid values raise InputError (a ValueError) naming the parameter.)");
     return s;
 }
@@ -370,6 +379,7 @@ PYBIND11_MODULE(secchi, m) {
         .def_readonly("photons_traced", &Result::photons_traced)
         .def_readonly("photons_stored", &Result::photons_stored)
         .def_readonly("seconds", &Result::seconds)
+        .def_readonly("depth_importance", &Result::depth_importance, "the depth importance the first pass used, and why")
         .def("__repr__", [](const Result& r) {
             std::string s("<secchi.Result ");
             s.append(r.phase).append(", ").append(std::to_string(r.depths.size())).append(" depths, ");
@@ -439,7 +449,7 @@ PYBIND11_MODULE(secchi, m) {
                           py::arg("photons") = 1'000'000, py::arg("map_photons") = py::none(),
                           py::arg("map_depth") = py::none(), py::arg("seed") = 1, py::arg("threads") = 1,
                           py::arg("batches") = 32, py::arg("absorption") = "continuous", py::arg("radius") = 0.05,
-                          py::arg("omega") = 0.005, extra...};
+                          py::arg("omega") = 0.005, py::arg("importance_cosine") = py::none(), extra...};
     };
     const auto define = [&m](const char* name, auto function, const std::string& doc, auto arguments) {
         std::apply([&](auto&&... args) { m.def(name, function, args..., doc.c_str()); }, arguments);

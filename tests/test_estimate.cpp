@@ -118,6 +118,45 @@ PlaneParallelConfig single_scattering_config(StoreKind store) {
 }
 }  // namespace
 
+TEST_CASE("plane-parallel runs take depth importance by default where asked: deep detectors, PhotonTracer") {
+    // PlaneParallelConfig::auto_importance: default_depth_importance (tau_a >= ln 2 down to the
+    // deepest detector) where the caller set none; what the run used and why in the result.
+    PlaneParallelConfig cfg;  // c = 1, w0 = 0.9: tau_a = 0.1 z
+    cfg.transport.photons = cfg.transport.map_photons = 4000;
+    cfg.transport.threads = 2;
+    cfg.ray_grid = 2;
+    cfg.auto_importance = true;
+    const IsotropicPhase iso;
+    auto run = [&](std::vector<double> depths) {
+        cfg.transport.depths = std::move(depths);
+        return solve_plane_parallel(iso, cfg);
+    };
+    auto r = run({1.0, 5.0});  // tau_a 0.5
+    CHECK_FALSE(r.importance.enabled());
+    CHECK(r.importance_choice.rfind("auto: off", 0) == 0);
+    r = run({1.0, 10.0, 5.0});  // tau_a 1 at the deepest, listed anywhere
+    CHECK(r.importance.cosine == 1.0);
+    CHECK(r.importance.max_depth == 10.0);
+    CHECK(r.importance_choice.rfind("auto: mu_i = 1", 0) == 0);
+    cfg.transport.importance = {0.5, 7.0};  // the caller's stands
+    r = run({1.0, 10.0});
+    CHECK(r.importance.cosine == 0.5);
+    CHECK(r.importance.max_depth == 7.0);
+    CHECK(r.importance_choice == "given");
+    cfg.transport.importance = {};
+    cfg.auto_importance = false;  // the library's default: off unless given
+    r = run({1.0, 10.0});
+    CHECK_FALSE(r.importance.enabled());
+    CHECK(r.importance_choice == "off");
+#if SECCHI_HAS_LANES
+    cfg.auto_importance = true;
+    cfg.tracer = TracerKind::lanes;  // no depth importance there: off, and said
+    r = run({1.0, 10.0});
+    CHECK_FALSE(r.importance.enabled());
+    CHECK(r.importance_choice.find("lanes") != std::string::npos);
+#endif
+}
+
 TEST_CASE("Lu from the map equals the exact single-scattering radiance") {
     // Sun at zenith, no interface, c = 1: the direct beam E0 exp(-c s) scatters with b p(pi);
     // Lu(z) = b p(pi) E0 exp(-c z) (1 - exp(-2 c L)) / (2 c) over a ray of length L.

@@ -296,6 +296,37 @@ TEST_CASE("depth importance: the level of random depths is the formula's, in lay
     CHECK(ImportanceLevels{}.factor(5.0) == 1.0);
 }
 
+TEST_CASE("depth importance by default: on from an absorption optical depth of ln 2 to the deepest detector") {
+    // default_depth_importance (transport/importance.hpp): mu_i = 1 down to the deepest
+    // detector z where tau_a(z) >= ln 2, else off. Random depths on both sides, in layered and
+    // homogeneous water, against that definition from the medium's optical depth.
+    const auto layered = two_layers(0.37, 0.5, 0.91, 0.5, 2.3, IsotropicPhase{});  // tau_a = ln 2 at 2.89 m
+    const auto homogeneous = HomogeneousWater<IsotropicPhase>::from_albedo(1.0, 0.2, IsotropicPhase{});  // at 0.87 m
+    std::mt19937_64 gen(31);
+    std::uniform_real_distribution<double> depth(0.0, 4.0);
+    auto check = [&](const auto& water, const char* name) {
+        int on = 0, wrong = 0;
+        for (int n = 0; n < 20000; ++n) {
+            const double z = depth(gen);
+            const DepthImportance imp = default_depth_importance(water, z);
+            const bool deep = water.optical_path(Coefficient::absorption, 0.0, 1.0, z) >= std::numbers::ln2;
+            on += imp.enabled();
+            const bool right = imp.enabled() == deep && (!deep || (imp.cosine == 1.0 && imp.max_depth == z));
+            if (!right && ++wrong <= 5) FAIL_CHECK(name << ": z = " << z << " gave cosine " << imp.cosine << " to " << imp.max_depth);
+        }
+        INFO(name << ": " << on << " of 20000 depths on");
+        CHECK(wrong == 0);
+        CHECK(on > 2000);
+        CHECK(on < 18000);
+    };
+    check(layered, "layered");
+    check(homogeneous, "homogeneous");
+    // At the boundary: the depth where tau_a reaches ln 2 (the medium's inverse) and just above it.
+    const double edge = homogeneous.distance_to(Coefficient::absorption, 0.0, 1.0, std::numbers::ln2);
+    CHECK(default_depth_importance(homogeneous, edge * (1.0 + 1e-12)).enabled());
+    CHECK_FALSE(default_depth_importance(homogeneous, edge * (1.0 - 1e-12)).enabled());
+}
+
 TEST_CASE("depth importance: splitting and roulette leave irradiances and the map's flux unbiased") {
     const auto water = two_layers(0.4, 0.6, 0.2, 1.0, 2.0, HenyeyGreensteinPhase(0.8));
     TransportSettings s;

@@ -43,6 +43,16 @@ SLAB_CASES = [
 ]
 
 
+def test_depth_importance_is_slabs_auto_unless_given():
+    # w0 = 0.9, c = 1: tau_a = 1 down to 10 m, past ln 2: on by default; 0 turns it off.
+    deep = dict(phase="isotropic", albedo=0.9, depths=[1, 10], **SMALL)
+    assert secchi.solve(**deep).depth_importance.startswith("auto: mu_i = 1")
+    assert secchi.solve(**deep, importance_cosine=0).depth_importance == "off"
+    assert secchi.solve(**deep, importance_cosine=0.5).depth_importance == "given"
+    assert secchi.solve(**dict(deep, depths=[1, 5])).depth_importance.startswith("auto: off")
+    assert secchi.trace_map(**deep).first_pass.depth_importance.startswith("auto: mu_i = 1")
+
+
 @pytest.mark.skipif("SECCHI_SLAB" not in os.environ, reason="the slab program (SECCHI_SLAB) was not built")
 @pytest.mark.parametrize("keywords, options", SLAB_CASES)
 def test_solve_is_bit_identical_to_slab(tmp_path, keywords, options):
@@ -52,6 +62,7 @@ def test_solve_is_bit_identical_to_slab(tmp_path, keywords, options):
     slab = json.loads(out.read_text())
     r = secchi.solve(depths=[1, 2.5], **keywords, **SMALL)
     assert r.phase == slab["phase"]["name"]
+    assert r.depth_importance == slab["depth_importance"]["chosen"]
     assert r.photons_stored == slab["photons_stored"]
     for name, key in (("ed", "Ed"), ("eu", "Eu"), ("eod", "Eod"), ("eou", "Eou"), ("lu", "Lu")):
         np.testing.assert_array_equal(getattr(r, name), [d[key] for d in slab["depths"]], err_msg=name)

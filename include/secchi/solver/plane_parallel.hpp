@@ -43,7 +43,9 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -117,6 +119,11 @@ struct PlaneParallelConfig {
     /// Maps the second pass builds, each from an equal, contiguous range of the batches
     /// (a divisor of transport.batches; see above). 1: one map.
     unsigned shards = 1;
+    /// Depth importance chosen by the library where transport.importance is off: mu_i = 1 to
+    /// the deepest detector when the water absorbs tau_a >= ln 2 down to it
+    /// (default_depth_importance, transport/importance.hpp), with PhotonTracer (LaneTracer has
+    /// no depth importance). slab's default; off here, so that a caller's settings stand as given.
+    bool auto_importance = false;
 };
 
 struct DepthResult {
@@ -140,6 +147,8 @@ struct PlaneParallelResult {
     double source_irradiance = 0;   ///< the plane irradiance the photons represent (the source's units)
     std::string source_name;
     std::vector<CompactRecord> map;  ///< only with keep_map
+    DepthImportance importance;      ///< the depth importance the first pass used
+    std::string importance_choice;   ///< how it was chosen (PlaneParallelConfig::auto_importance)
 };
 
 namespace detail {
@@ -243,6 +252,29 @@ inline void eou_on_lambertian_bottom(const Bottom& bottom, std::vector<DepthResu
         if (d.depth >= bottom.depth()) d.irradiance[Eou] = {2.0 * d.irradiance[Eu].value, 2.0 * d.irradiance[Eu].se};
 }
 
+/// Sets cfg.transport.importance by default_depth_importance where cfg.auto_importance asks
+/// for it (see there) and says how the run's depth importance was chosen.
+template <Medium M>
+std::string choose_depth_importance(const M& medium, PlaneParallelConfig& cfg) {
+    auto& t = cfg.transport;
+    if (!cfg.auto_importance) return t.importance.enabled() ? "given" : "off";
+    if (t.importance.enabled()) return "given";
+    if (t.depths.empty()) return "auto: off (no detectors)";
+    const double deepest = *std::max_element(t.depths.begin(), t.depths.end());
+    const DepthImportance chosen = default_depth_importance(medium, deepest);
+    std::ostringstream why;
+    why << std::setprecision(3) << "absorption optical depth " << medium.optical_path(Coefficient::absorption, 0.0, 1.0, deepest)
+        << " to the deepest detector";
+    if (!chosen.enabled()) {
+        why << ", below ln 2";
+        return "auto: off (" + why.str() + ")";
+    }
+    if (cfg.tracer != TracerKind::photon)
+        return "auto: off (" + why.str() + ", but the lanes tracers have no depth importance: --tracer photon would split)";
+    t.importance = chosen;
+    return "auto: mu_i = 1 (" + why.str() + ")";
+}
+
 /// The length of the nadir ray from depth z: down to where the optics' transmittance falls to
 /// cfg.ray_transmittance, or to the bottom.
 template <RayOptics Optics>
@@ -267,8 +299,9 @@ struct FirstPass {
 /// The first pass; with a split among processes (PassSplit), complete on rank 0 only, and
 /// every process's transport.records its own batches'.
 template <PhotonRecord Record, Medium M, class Split = SingleProcess>
-FirstPass<Record> run_first_pass(const M& medium, const PlaneParallelConfig& cfg,
+FirstPass<Record> run_first_pass(const M& medium, PlaneParallelConfig cfg,
                                  std::chrono::steady_clock::time_point t0, const Split& split = {}) {
+    const std::string importance_choice = choose_depth_importance(medium, cfg);
     const Slab slab(cfg.section_width, cfg.bottom);
     const AnySource source = source_of(cfg);
     auto tr = first_pass<Record>(medium, slab, source, cfg, split);
@@ -284,6 +317,8 @@ FirstPass<Record> run_first_pass(const M& medium, const PlaneParallelConfig& cfg
     out.ledger = tr.ledger;
     out.bottom_ed = tr.bottom_ed;
     out.flux_per_map_photon = tr.map_flux.per_record;
+    out.importance = cfg.transport.importance;
+    out.importance_choice = importance_choice;
     out.seconds_transport = seconds_since(t0);
     for (std::size_t i = 0; i < tr.depths.size(); ++i) out.depths.push_back({tr.depths[i], tr.irradiance[i], {}, 0});
     eou_on_lambertian_bottom(cfg.bottom, out.depths);
