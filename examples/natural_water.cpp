@@ -14,7 +14,8 @@
 namespace {
 constexpr const char* usage = R"(usage: natural_water [MATERIAL_FILE [ENTRY]]
 Solves a Case-1 water column at 490 nm (sun at 60 deg, flat surface, black sky, infinitely
-deep) for Ed, Eou and Lu at 1, 5, 10 and 20 m: the medium composed in this file, or the
+deep; depth importance where the water absorbs an optical depth of ln 2 or more down to 20 m)
+for Ed, Eou and Lu at 1, 5, 10 and 20 m: the medium composed in this file, or the
 IOP_MODEL of MATERIAL_FILE (DIRSIG material-file syntax, e.g. examples/materials/*.mat; in a
 file of MATERIAL_ENTRY sections, the entry whose ID or NAME is ENTRY, by default the only one
 with BULK_PROPERTIES).
@@ -43,9 +44,11 @@ int main(int argc, char** argv) {
         cfg.transport.photons = cfg.transport.map_photons = 100'000;
         cfg.transport.depths = {1.0, 5.0, 10.0, 20.0};
         cfg.transport.threads = 2;
+        cfg.auto_importance = true;  // depth importance where the water absorbs tau_a >= ln 2 above 20 m
         const auto r = solve_stratified(water, cfg);
         std::printf("%s water at %.0f nm (%s)\n", !args.empty() ? args[0].c_str() : "composed Case-1", wavelength,
                     r.phase_name.c_str());
+        std::printf("depth importance: %s\n", r.importance_choice.c_str());
         std::printf("%6s %21s %21s %21s   (value +- standard error)\n", "z (m)", "Ed", "Eou", "Lu");
         for (const auto& d : r.depths) {
             std::printf("%6.1f", d.depth);
