@@ -153,7 +153,7 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.auto_importance = cl.text("importance-cosine", "auto") == "auto";
     if (!cfg.auto_importance)
         if (const double mu_i = cl.number("importance-cosine", 0.0); mu_i != 0.0)
-            t.importance = {mu_i, t.depths.empty() ? 0.0 : *std::max_element(t.depths.begin(), t.depths.end())};
+            t.importance = {mu_i, t.deepest_detector()};
     t.backscatter_bias = cl.number("backscatter-bias", 0.0);
     t.upward_importance = cl.number("upward-importance", 0.0);
     t.upward_lobe = cl.number("upward-lobe", t.upward_lobe);

@@ -20,7 +20,6 @@
 #include <secchi/solver/phase_choice.hpp>
 #include <secchi/solver/plane_parallel.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -102,7 +101,7 @@ struct ProblemArgs {
         cfg.omega = omega;
         cfg.auto_importance = !importance_cosine;
         if (importance_cosine && *importance_cosine != 0.0)
-            t.importance = {*importance_cosine, depths.empty() ? 0.0 : *std::max_element(depths.begin(), depths.end())};
+            t.importance = {*importance_cosine, t.deepest_detector()};
         return cfg;
     }
 };

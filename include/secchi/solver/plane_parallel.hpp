@@ -260,7 +260,7 @@ std::string choose_depth_importance(const M& medium, PlaneParallelConfig& cfg) {
     if (!cfg.auto_importance) return t.importance.enabled() ? "given" : "off";
     if (t.importance.enabled()) return "given";
     if (t.depths.empty()) return "auto: off (no detectors)";
-    const double deepest = *std::max_element(t.depths.begin(), t.depths.end());
+    const double deepest = t.deepest_detector();
     const DepthImportance chosen = default_depth_importance(medium, deepest);
     std::ostringstream why;
     why << std::setprecision(3) << "absorption optical depth " << medium.optical_path(Coefficient::absorption, 0.0, 1.0, deepest)

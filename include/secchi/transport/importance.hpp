@@ -195,14 +195,12 @@ struct DepthImportance {
 
 
 /// Depth importance where the caller leaves the choice to the library (slab's default,
-/// `--importance-cosine auto`): mu_i = 1 down to the deepest detector where the absorption
-/// optical depth from the surface to it, tau_a, is at least ln 2 (photons split at least once
-/// on the way down), else none. Measured by the figure of merit 1 / (SE^2 t) of a
-/// plane-parallel run's noisiest entries (Petzold, HG and Rayleigh water, w0 = 0.2-0.9, the
-/// deepest detector at tau_a = 0.25-8; docs/design-notes.md, "Depth importance by default"):
-/// from tau_a = 0.5 on it pays for the deep nadir radiance and upwelling irradiances (1.1-1.5
-/// times at tau_a = 0.5-1, 1.5-3 at 2-4, 2.6-12 at 6-8), whose batch SE without it also
-/// understates the scatter between seeds from tau_a = 2; at 0.25 it was within the noise.
+/// `--importance-cosine auto`; PlaneParallelConfig::auto_importance): mu_i = 1 down to the
+/// deepest detector where the absorption optical depth from the surface to it, tau_a, is at
+/// least ln 2, so that photons split at least once on the way down; else none. There the
+/// figure of merit 1 / (SE^2 t) of the deep nadir radiance and upwelling irradiances, a run's
+/// noisiest entries, was measured to favour it (docs/design-notes.md, "Depth importance by
+/// default").
 inline constexpr double deep_detector_tau_a = std::numbers::ln2;
 template <Medium M>
 DepthImportance default_depth_importance(const M& medium, double deepest_detector) {

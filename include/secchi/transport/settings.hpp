@@ -5,6 +5,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/core/names.hpp"
 #include "secchi/transport/importance.hpp"
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -52,6 +53,10 @@ struct TransportSettings {
     unsigned threads = 1;
     unsigned batches = 32;              ///< independent batches for standard errors (>= 16 recommended)
     std::vector<double> depths;         ///< irradiance detector depths (m)
+    /// The deepest of `depths` (m; 0 without any): where depth importance peaks by default.
+    [[nodiscard]] double deepest_detector() const {
+        return depths.empty() ? 0.0 : *std::max_element(depths.begin(), depths.end());
+    }
     /// Ed on the bottom in bottom_bins x bottom_bins bins over the section (bottom_grid.hpp); 0: none.
     unsigned bottom_bins = 0;
     /// Keep the map photons' arrivals on objects and on an opaque bottom: the surface photon
