@@ -7,7 +7,7 @@
 set -euo pipefail
 build=${1:-build} photons=${2:-2000000} rounds=${3:-3}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-args="--phase petzold --albedo 0.9 --depths 1,5,10 --photons $photons --map-photons $photons --batches 32 --shards 4 --seed 1 --store voi --ray-grid 30 --threads 1"
+args="--phase petzold --albedo 0.9 --depths 1,5,10 --photons $photons --map-photons $photons --batches 32 --shards 4 --seed 1 --store voi --ray-grid 30 --threads 1 --importance-cosine 0"
 out=$(mktemp -d)
 now() { date +%s.%N; }
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
