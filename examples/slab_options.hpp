@@ -60,12 +60,13 @@ file's ADD_PHASE_FUNCTION_MODEL TYPEs):
   --tracer {tracers} (default photon; lanes: photons in SIMD lanes, the same
                estimates, faster when built for AVX2 or better, e.g. -march=native;
                lanes-float: in float lanes, twice as many per vector)
-Variance reduction (transport/importance.hpp; PhotonTracer only):
+Variance reduction (transport/importance.hpp):
   --importance-cosine auto (depth importance: photons split each time the absorption optical
                depth grows by mu_i ln 2, down to the deepest of --depths, and are rouletted
                below it; auto: mu_i = 1 where the water absorbs an optical depth of ln 2 or more
-               down to the deepest detector, else off; 0: off)
-The others are off by default:
+               down to the deepest detector, else off; 0: off; in the lanes tracers with
+               weighted photons only: not with --absorption analog)
+The others are off by default, PhotonTracer only:
   --backscatter-bias 0 (a share of the scattering angles drawn from the phase function's
                backward part: the upwelling irradiances at depth)
   --upward-importance 0 --upward-lobe 0.9 (a share of the scattering directions drawn from a

@@ -118,7 +118,7 @@ PlaneParallelConfig single_scattering_config(StoreKind store) {
 }
 }  // namespace
 
-TEST_CASE("plane-parallel runs take depth importance by default where asked: deep detectors, PhotonTracer") {
+TEST_CASE("plane-parallel runs take depth importance by default where asked: deep detectors, weighted photons") {
     // PlaneParallelConfig::auto_importance: default_depth_importance (tau_a >= ln 2 down to the
     // deepest detector) where the caller set none; what the run used and why in the result.
     PlaneParallelConfig cfg;  // c = 1, w0 = 0.9: tau_a = 0.1 z
@@ -150,10 +150,18 @@ TEST_CASE("plane-parallel runs take depth importance by default where asked: dee
     CHECK(r.importance_choice == "off");
 #if SECCHI_HAS_LANES
     cfg.auto_importance = true;
-    cfg.tracer = TracerKind::lanes;  // no depth importance there: off, and said
-    r = run({1.0, 10.0});
-    CHECK_FALSE(r.importance.enabled());
-    CHECK(r.importance_choice.find("lanes") != std::string::npos);
+    for (const TracerKind lanes : {TracerKind::lanes, TracerKind::float_lanes}) {
+        cfg.tracer = lanes;  // the lanes split weighted photons (the default continuous absorption)
+        r = run({1.0, 10.0});
+        CHECK(r.importance.cosine == 1.0);
+        CHECK(r.importance_choice.rfind("auto: mu_i = 1", 0) == 0);
+        cfg.transport.absorption = AbsorptionMode::analog;  // but not analog ones: off, and said
+        r = run({1.0, 10.0});
+        CHECK_FALSE(r.importance.enabled());
+        CHECK(r.importance_choice.find("lanes") != std::string::npos);
+        cfg.transport.importance = {};
+        cfg.transport.absorption = AbsorptionMode::continuous;
+    }
 #endif
 }
 

@@ -13,6 +13,8 @@
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/transport/tracer.hpp"
+#include <algorithm>
+#include <cmath>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -278,6 +280,18 @@ TEST_CASE("depth importance: the level of random depths is the formula's, in lay
             if (levels.level(z) != expected || levels.factor(z) != std::ldexp(1.0, expected)) {
                 if (++mismatches <= 5) FAIL_CHECK(name << ": z = " << z << " level " << levels.level(z) << ", formula " << expected);
             }
+            // span(z): z inside it, the same level at its ends and at a random depth inside.
+            const auto span = levels.span(z);
+            const double last = std::nextafter(span.hi, -INFINITY);
+            const double inside = std::isfinite(span.lo) && std::isfinite(span.hi)
+                                      ? std::min(last, span.lo + (span.hi - span.lo) * std::generate_canonical<double, 53>(gen))
+                                      : z;
+            const bool span_right = span.lo <= z && z < span.hi && span.level == expected &&
+                                    span.factor == std::ldexp(1.0, expected) && levels.level(inside) == expected &&
+                                    (!std::isfinite(span.lo) || levels.level(span.lo) == expected) &&
+                                    (!std::isfinite(span.hi) || levels.level(last) == expected);
+            if (!span_right && ++mismatches <= 5)
+                FAIL_CHECK(name << ": z = " << z << " span [" << span.lo << ", " << span.hi << ") level " << span.level);
         }
         INFO(name << ": " << checked << " depths checked");
         CHECK(checked > 199000);
@@ -294,6 +308,59 @@ TEST_CASE("depth importance: the level of random depths is the formula's, in lay
     check(dense, {1.0, 20.0005}, "a dense layer, all depths");
     CHECK(ImportanceLevels{}.level(5.0) == 0);
     CHECK(ImportanceLevels{}.factor(5.0) == 1.0);
+}
+
+TEST_CASE("depth importance: a depth inside a span's inner bounds has the span's level, and so has its float rounding") {
+    // inner_span (transport/importance.hpp), LaneTracer's test of whether a lane's level still
+    // holds: the span of an earlier depth (beside a level change, or anywhere) against a float
+    // or double depth within 4e-6 (relative) of that change, or anywhere. Inside the inner
+    // bounds the depth's own level must be the span's and, with a margin of 1e-6, so must the
+    // level of the depth a float record stores; a depth left outside must lie outside the span
+    // or within twice the margin of a bound (no needless look-ups).
+    const auto layered = two_layers(0.37, 0.5, 0.91, 0.5, 2.3, IsotropicPhase{});
+    const auto homogeneous = HomogeneousWater<IsotropicPhase>::from_albedo(1.0, 0.2, IsotropicPhase{});
+    std::mt19937_64 gen(37);
+    auto check = [&]<class Real>(const auto& water, DepthImportance imp, double margin, Real, const char* name) {
+        const ImportanceLevels levels(imp, water);
+        std::vector<double> bounds;
+        for (double b = levels.span(-1.0).hi; std::isfinite(b); b = levels.span(b).hi) bounds.push_back(b);
+        REQUIRE(bounds.size() > 4);
+        std::uniform_int_distribution<std::size_t> pick(0, bounds.size() - 1);
+        std::uniform_real_distribution<double> near(-4e-6, 4e-6), anywhere(-1.0, 1.2 * bounds.back());
+        int inside = 0, outside = 0, wrong = 0;
+        for (int n = 0; n < 100000; ++n) {
+            // A span held from an earlier depth (the lane's), and a new depth near its bounds or anywhere.
+            const double bound = bounds[pick(gen)];
+            const double earlier = n % 5 == 0 ? anywhere(gen) : bound * (1.0 + (n % 2 ? 1e-5 : -1e-5));
+            const double z = n % 5 == 0 ? anywhere(gen) : bound * (1.0 + near(gen));
+            const Real y = static_cast<Real>(z);
+            const double depth = y, stored = static_cast<float>(y);
+            const auto span = levels.span(earlier);
+            const InnerSpan<Real> in = inner_span<Real>(span, margin);
+            bool right;
+            if (in.lo <= y && y < in.hi) {
+                ++inside;
+                right = levels.level(depth) == span.level && (margin == 0.0 || levels.level(stored) == span.level);
+            } else {  // outside the span, or within the margin of a bound
+                ++outside;
+                right = !(span.lo <= depth && depth < span.hi) ||
+                        std::abs(depth - span.lo) <= 2.0 * margin * std::abs(span.lo) ||
+                        std::abs(depth - span.hi) <= 2.0 * margin * std::abs(span.hi);
+            }
+            if (!right && ++wrong <= 5)
+                FAIL_CHECK(name << ": depth " << depth << " span [" << span.lo << ", " << span.hi << ") level " << span.level);
+        }
+        INFO(name << ": " << inside << " inside, " << outside << " outside");
+        CHECK(wrong == 0);
+        CHECK(inside > 20000);
+        CHECK(outside > 40000);
+    };
+    for (const double margin : {0.0, 1e-6}) {
+        check(layered, {0.6, 7.0}, margin, 0.0f, "layered, float");
+        check(layered, {0.6, 7.0}, margin, 0.0, "layered, double");
+        check(homogeneous, {0.05, 3.0}, margin, 0.0f, "homogeneous, many levels, float");
+        check(homogeneous, {0.05, 3.0}, margin, 0.0, "homogeneous, many levels, double");
+    }
 }
 
 TEST_CASE("depth importance by default: on from an absorption optical depth of ln 2 to the deepest detector") {

@@ -52,8 +52,8 @@
 namespace secchi::SECCHI_ISA {
 
 /// Which first pass traces the photons: PhotonTracer, or LaneTracer (photons in SIMD lanes;
-/// homogeneous water without depth importance; the same estimates, faster where the target
-/// has wide vectors) in lanes of doubles ("lanes") or of floats ("lanes-float": twice the
+/// homogeneous water, depth importance with weighted photons only; the same estimates, faster
+/// where the target has wide vectors) in lanes of doubles ("lanes") or of floats ("lanes-float": twice the
 /// lanes, the photons' state rounded to float between events).
 enum class TracerKind { photon, lanes, float_lanes };
 
@@ -121,8 +121,9 @@ struct PlaneParallelConfig {
     unsigned shards = 1;
     /// Depth importance chosen by the library where transport.importance is off: mu_i = 1 to
     /// the deepest detector when the water absorbs tau_a >= ln 2 down to it
-    /// (default_depth_importance, transport/importance.hpp), with PhotonTracer (LaneTracer has
-    /// no depth importance). slab's default; off here, so that a caller's settings stand as given.
+    /// (default_depth_importance, transport/importance.hpp), with any tracer that splits the
+    /// photons (LaneTracer only weighted ones: not with analog absorption). slab's default; off
+    /// here, so that a caller's settings stand as given.
     bool auto_importance = false;
 };
 
@@ -269,8 +270,9 @@ std::string choose_depth_importance(const M& medium, PlaneParallelConfig& cfg) {
         why << ", below ln 2";
         return "auto: off (" + why.str() + ")";
     }
-    if (cfg.tracer != TracerKind::photon)
-        return "auto: off (" + why.str() + ", but the lanes tracers have no depth importance: --tracer photon would split)";
+    if (cfg.tracer != TracerKind::photon && t.absorption == AbsorptionMode::analog)
+        return "auto: off (" + why.str() +
+               ", but the lanes tracers split weighted photons only: --absorption implicit or continuous, or --tracer photon, would split)";
     t.importance = chosen;
     return "auto: mu_i = 1 (" + why.str() + ")";
 }

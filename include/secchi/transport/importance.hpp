@@ -249,6 +249,21 @@ public:
     /// I(z) = 2^L(z).
     [[nodiscard]] double factor(double z) const { return enabled_ ? factors_[interval(z)] : 1.0; }
 
+    /// The depths [lo, hi) over which the level is z's (L and 2^L there): every depth y with
+    /// lo <= y < hi has level(y) == level and factor(y) == factor (lo may be -inf, hi +inf), so
+    /// that a caller can keep it and look again only when a depth leaves it.
+    struct Span {
+        double lo, hi;
+        int level;
+        double factor;
+    };
+    [[nodiscard]] Span span(double z) const {
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        if (!enabled_) return {-inf, inf, 0, 1.0};
+        const std::uint32_t j = interval(z);
+        return {j > 0 ? boundaries_[j - 1] : -inf, boundaries_[j], levels_[j], factors_[j]};
+    }
+
 private:
     /// Appends a boundary (in increasing depth; one that coincides with the previous replaces
     /// its level) and the level from it down to the next.
@@ -313,6 +328,34 @@ private:
     double first_ = 0.0;              ///< the first boundary (m)
     double bucket_scale_ = 0.0;       ///< buckets per metre
 };
+
+/// A span's bounds (ImportanceLevels::span) for depths held in Real (float or double),
+/// narrowed by a relative `margin`: each bound the smallest Real at or above lo (1 + margin)
+/// and hi (1 - margin), so that a depth y of type Real has lo <= y < hi exactly when
+/// lo (1 + margin) <= y < hi (1 - margin) (the bounds are depths of positive or infinite
+/// size). Then y and every depth within a relative margin / (1 + margin) of it (a record's
+/// rounding of y to float: 6e-8) share the span's level, and two comparisons per depth tell
+/// whether its level is still the span's (transport/lane_tracer.hpp).
+template <class Real>
+struct InnerSpan {
+    Real lo, hi;
+};
+template <class Real>
+InnerSpan<Real> inner_span(const ImportanceLevels::Span& span, double margin) {
+    constexpr Real inf = std::numeric_limits<Real>::infinity();
+    InnerSpan<Real> inner{-inf, inf};
+    if (std::isfinite(span.lo)) {
+        const double lo = span.lo + margin * std::abs(span.lo);
+        inner.lo = static_cast<Real>(lo);
+        if (inner.lo < lo) inner.lo = std::nextafter(inner.lo, inf);
+    }
+    if (std::isfinite(span.hi)) {
+        const double hi = span.hi - margin * std::abs(span.hi);
+        inner.hi = static_cast<Real>(hi);
+        if (inner.hi < hi) inner.hi = std::nextafter(inner.hi, inf);
+    }
+    return inner;
+}
 
 /// The importance of a record stored at depth z travelling with z component dz: I(z) D(-dz),
 /// the records the first pass stores per unit of photon weight there, each carrying Phi / that

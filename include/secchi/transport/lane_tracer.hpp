@@ -19,9 +19,22 @@
 // photons' histories are the same for any lane count (any target); the records' order and
 // the sums' last bits are not (core/lanes.hpp).
 //
-// For homogeneous water (depth_independent media), without depth importance and without
-// objects in the water (scene/geometry.hpp: LaneTracer has no geometry parameter; its base is
-// PhotonTracer with NoGeometry); use PhotonTracer for those. Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
+// Depth importance (importance.hpp) as PhotonTracer's: at the start of every step a photon
+// whose depth lies at another level than its own is split or rouletted (PhotonTracer's
+// change_level, lane by lane), its split-off copies queued and taken by the next lanes that
+// come free before new photons are launched; a scattering event is stored with probability
+// w I(z) (copies where w I > 1, lane by lane), I(z) at the record's stored depth; roulette acts
+// on w 2^L. Whether a depth keeps its lane's level is two comparisons per lane with the
+// depths where its level holds (ImportanceLevels::span, kept per lane and narrowed by a
+// relative 1e-6 so that the record's rounded depth shares it: inner_span); a lane outside
+// looks its level up. Without depth importance the step is compiled without any of this. A copy draws from its own stream: the parent's stream from a Philox block derived from
+// the parent's next block and the copy's number (split_block), so that its history does not
+// depend on which lane takes it.
+//
+// For homogeneous water (depth_independent media), without objects in the water
+// (scene/geometry.hpp: LaneTracer has no geometry parameter; its base is PhotonTracer with
+// NoGeometry), with weighted photons where depth importance is on (absorption implicit or
+// continuous); use PhotonTracer for those. Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
 // Henyey-Greenstein, or a table with the trapezoid convention such as Petzold) sample in the
 // vectors; any other samples lane by lane.
 //
@@ -41,6 +54,10 @@
 #include "secchi/core/lanes.hpp"
 #include "secchi/map/record_lanes.hpp"
 #include "secchi/transport/tracer.hpp"
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
 
 #if SECCHI_HAS_LANES
 namespace secchi::SECCHI_ISA {
@@ -108,8 +125,8 @@ public:
 
 private:
     static TransportSettings supported(TransportSettings s) {
-        require(!s.importance.enabled(), "depth importance (cosine)", s.importance.cosine,
-                "LaneTracer does not split photons by depth; use PhotonTracer");
+        require(!s.importance.enabled() || s.absorption != AbsorptionMode::analog, "depth importance (cosine)",
+                s.importance.cosine, "needs weighted photons in LaneTracer (absorption implicit or continuous, not analog)");
         require(!s.surface_map, "surface map", "on", "is not kept by LaneTracer; use PhotonTracer");
         require(s.backscatter_bias == 0.0, "backscatter bias", s.backscatter_bias,
                 "is not drawn by LaneTracer; use PhotonTracer");
@@ -117,6 +134,15 @@ private:
                 "is not drawn by LaneTracer; use PhotonTracer");
         return s;
     }
+
+    /// A photon split off by depth importance, waiting for a lane: its state, its stream and
+    /// block (split_block), and its map slot (the parent's).
+    struct Copy {
+        PhotonState p;
+        std::uint64_t photon, block;
+        bool stores;
+        std::uint8_t batch;
+    };
 
     /// The photons in the lanes, one per lane, as structure of arrays.
     struct Lanes {
@@ -128,7 +154,13 @@ private:
         std::uint8_t batch[width];           ///< and in which batch
         std::uint64_t photon[width];         ///< the photon's index: its random stream
         std::uint64_t block[width];          ///< its stream's next Philox block
+        alignas(64) Real level[width];     ///< depth-importance level L of the photon (exact in Real)
+        alignas(64) Real level_scale[width];  ///< 2^L: roulette acts on w 2^L (kept with depth importance)
+        /// The depths [span_lo, span_hi) where the level is span_level and I(z) span_factor
+        /// (ImportanceLevels::span narrowed by span_margin: inner_span, importance.hpp).
+        alignas(64) Real span_lo[width], span_hi[width], span_level[width], span_factor[width];
         std::vector<std::array<Reals, 4>> tally;  ///< per depth, per lane (summed at the end)
+        std::vector<Copy> copies;            ///< split-off photons waiting for a lane (taken last first)
     };
 
     /// The first Philox blocks of the block's next photons (up to one per lane), computed
@@ -149,11 +181,20 @@ private:
         Launches launches;
         launches.first = block.begin;
         for (int l = 0; l < width; ++l) start(lanes, l, launches, block.end, out);
-        for (std::uint64_t steps = 1; any_of(Mask(lanes.alive, aligned)); ++steps) {
-            step(lanes, launches, block.end, out);
-            if (in_floats && steps % flush_steps == 0) flush(lanes, out);
-        }
+        if (this->importance_on_)
+            steps<true>(lanes, launches, block.end, out);
+        else
+            steps<false>(lanes, launches, block.end, out);
         flush(lanes, out);
+    }
+
+    /// Steps until every lane is parked; the step compiled with or without depth importance.
+    template <bool with_importance>
+    SECCHI_KERNEL void steps(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
+        for (std::uint64_t steps = 1; any_of(Mask(L.alive, aligned)); ++steps) {
+            step<with_importance>(L, next, end, out);
+            if (in_floats && steps % flush_steps == 0) flush(L, out);
+        }
     }
 
     /// Adds the lanes' absorbed weight and tallies to the block's sums (in lane order), and
@@ -172,6 +213,17 @@ private:
     /// or parks the lane when the block has none left: a parked lane has zero weight, stores
     /// nothing, and every per-lane action skips it.
     void start(Lanes& L, int l, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
+        if (!L.copies.empty()) {
+            const Copy c = L.copies.back();
+            L.copies.pop_back();
+            put(L, l, c.p);
+            L.photon[l] = c.photon;
+            L.block[l] = c.block;
+            L.stores[l] = c.stores;
+            L.batch[l] = c.batch;
+            L.alive[l] = true;
+            return;
+        }
         while (next.used < next.count || next.first + next.count < end) {
             if (next.used == next.count) prepare(next, end);
             const std::uint64_t u = next.used++, i = next.first + u;
@@ -195,14 +247,83 @@ private:
     }
 
     static PhotonState photon(const Lanes& L, int l) {
-        return {{L.x[l], L.y[l], L.z[l]}, {L.dx[l], L.dy[l], L.dz[l]}, L.w[l], static_cast<unsigned>(L.order[l]), 0};
+        return {{L.x[l], L.y[l], L.z[l]}, {L.dx[l], L.dy[l], L.dz[l]}, L.w[l], static_cast<unsigned>(L.order[l]),
+                static_cast<int>(L.level[l])};
     }
-    static void put(Lanes& L, int l, const PhotonState& p) {
+    /// Lane l takes photon p (and, with depth importance, the span of its depth).
+    void put(Lanes& L, int l, const PhotonState& p) const {
         const auto real = [](double v) { return static_cast<Real>(v); };
         L.x[l] = real(p.pos.x), L.y[l] = real(p.pos.y), L.z[l] = real(p.pos.z);
         L.dx[l] = real(p.dir.x), L.dy[l] = real(p.dir.y), L.dz[l] = real(p.dir.z);
         L.w[l] = real(p.w);
         L.order[l] = static_cast<Real>(p.order);
+        L.level[l] = static_cast<Real>(p.level);
+        if (!this->importance_on_) return;
+        L.level_scale[l] = static_cast<Real>(std::ldexp(1.0, p.level));
+        look_up_span(L, l);
+    }
+
+    /// How much narrower than ImportanceLevels::span a lane's span is kept, relative to the
+    /// bound (inner_span, importance.hpp): more than a depth's change when a record stores it
+    /// (float: 6e-8), so that a depth inside the kept span is stored at a depth of its level.
+    static constexpr double span_margin = 1e-6;
+
+    /// Lane l's span from its depth.
+    [[gnu::noinline]] void look_up_span(Lanes& L, int l) const {
+        const auto span = this->levels_.span(static_cast<double>(L.z[l]));
+        const InnerSpan<Real> inner = inner_span<Real>(span, span_margin);
+        L.span_lo[l] = inner.lo;
+        L.span_hi[l] = inner.hi;
+        L.span_level[l] = static_cast<Real>(span.level);
+        L.span_factor[l] = static_cast<Real>(span.factor);
+    }
+
+    /// Whether each lane's depth lies in its kept span.
+    static Mask in_span(const Lanes& L) {
+        const Reals z(L.z, aligned);
+        return z >= Reals(L.span_lo, aligned) && z < Reals(L.span_hi, aligned);
+    }
+
+    /// The first Philox block of copy i (1, 2, ...) of a photon split when its stream's next
+    /// block was `next`: SplitMix64's finaliser (Steele, Lea and Flood 2014) of the pair, in
+    /// the upper half of the 64-bit block counter, where no launched photon's own blocks reach
+    /// (they count up from 0). A copy's copies derive theirs from its blocks in the same way.
+    static std::uint64_t split_block(std::uint64_t next, std::uint64_t i) {
+        std::uint64_t z = next + i * 0x9E3779B97F4A7C15ull;
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return (z ^ (z >> 31)) | (std::uint64_t{1} << 63);
+    }
+
+    /// Depth importance at the start of a step (PhotonTracer::follow's change_level): every
+    /// lane whose depth lies at another level than its photon's is split (the copies queued)
+    /// or rouletted; a lane whose photon ends takes the next, which is checked in turn; lanes
+    /// left without a photon take queued copies.
+    [[gnu::noinline]] void change_levels(Lanes& L, Launches& next, std::uint64_t end,
+                                         detail::BlockResult<Record>& out) const {
+        std::vector<PhotonState> split;
+        for (Mask check = Mask(L.alive, aligned); any_of(check);) {
+            const Mask moved = check && Mask(L.alive, aligned) && !(in_span(L) && Reals(L.span_level, aligned) == Reals(L.level, aligned));
+            check = Mask(false);
+            lanes::for_each(moved, [&](int l) {
+                per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
+                    return this->change_level(p, rng, out.ledger, split);
+                });
+                for (std::size_t i = 0; i < split.size(); ++i)
+                    L.copies.push_back({split[i], L.photon[l], split_block(L.block[l], i + 1), L.stores[l], L.batch[l]});
+                split.clear();
+                if (!L.alive[l]) {
+                    start(L, l, next, end, out);
+                    check[l] = L.alive[l];
+                }
+            });
+            if (L.copies.empty()) continue;
+            for (int l = 0; l < width && !L.copies.empty(); ++l)
+                if (!L.alive[l]) {
+                    start(L, l, next, end, out);
+                    check[l] = true;
+                }
+        }
     }
 
     /// Runs a per-photon event `event(p, rng) -> bool` (false: the photon ends) on lane l's
@@ -237,7 +358,9 @@ private:
     /// Inlined into trace_block's loop with its helpers (fly, store_events, the records, the
     /// detectors): as calls, they pass vectors through memory, 13 % of LaneTracer's
     /// instructions (valgrind; docs/design-notes.md).
+    template <bool with_importance>
     SECCHI_KERNEL void step(Lanes& L, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
+        if constexpr (with_importance) change_levels(L, next, end, out);
         StepUniforms u;
         draw(L, u);
         const Mask alive(L.alive, aligned);
@@ -269,9 +392,10 @@ private:
             EventPhysics::angles(this->medium_, Reals(L.z, aligned), Reals(u.psi, aligned), Reals(u.phi, aligned));
         const Vec3 after = rotate_direction(before, cos_psi, phi);
 
-        store_events(L, scatters, w_after, u_absorb_or_store, out);
+        store_events<with_importance>(L, scatters, w_after, u_absorb_or_store, out);
         scatter(L, scatters, w_after, after);
-        const Mask roulette = scatters && physics.roulette_due(w_after);
+        const Mask roulette =
+            scatters && physics.roulette_due(with_importance ? w_after * Reals(L.level_scale, aligned) : w_after);
         // What only some photons meet, in one pass over their lanes in lane order (each kind
         // of event adds to its own ledger entries, so their sums keep the lanes' order); a lane
         // whose photon ended takes the block's next one.
@@ -327,12 +451,19 @@ private:
         return z;
     }
 
-    /// Equal-flux storage (EventPhysics::keeps, as PhotonTracer::store_event without depth
-    /// importance). The records are made for all lanes at once (LaneRecords) and the kept ones
-    /// appended in lane order.
-    SECCHI_KERNEL void store_events(const Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
+    /// Equal-flux storage (EventPhysics::keeps, as PhotonTracer::store_event): an event is kept
+    /// if u < w, with depth importance if u < w I(z) (I at the record's depth: the lane's span's
+    /// factor, looked up where the depth has left the span), and a lane with w I > 1 adds
+    /// floor(w I - 1 + u) copies of its record (expected copies w I in all: EventPhysics::copies).
+    /// The records are made for all lanes at once (LaneRecords) and the kept ones appended in
+    /// lane order, the further copies after them.
+    template <bool with_importance>
+    SECCHI_KERNEL void store_events(Lanes& L, const Mask& scatters, const Reals& w, const Reals& u,
                                     detail::BlockResult<Record>& out) const {
-        const Mask keep = scatters && Mask(L.stores, aligned) && this->physics_.keeps(w, u, Reals(L.z, aligned));
+        const Mask candidates = scatters && Mask(L.stores, aligned);
+        Reals weighted = w;  // w I(z)
+        if constexpr (with_importance) weighted = importance_weighted(L, candidates, w);
+        const Mask keep = candidates && this->physics_.keeps(weighted, u, Reals(L.z, aligned));
         if (none_of(keep)) return;
         const Vec3 position{this->slab_.wrap(Reals(L.x, aligned)), this->slab_.wrap(Reals(L.y, aligned)),
                             Reals(L.z, aligned)};
@@ -340,6 +471,40 @@ private:
         Record* room = out.records.room(width);
         out.records.commit(LaneRecords<Record>::make_kept(position, direction, band_index{this->s_.band}, L.batch,
                                                           lanes::bits_of(keep), room));
+        if constexpr (with_importance) store_copies(L, keep, weighted, u, position, direction, out);
+    }
+
+    /// w I(z) per lane, I at the record's depth: the lane's span's factor, looked up where the
+    /// depth has left the span, and computed for the record's depth where it lies within
+    /// span_margin of a bound.
+    [[gnu::noinline]] Reals importance_weighted(Lanes& L, const Mask& candidates, const Reals& w) const {
+        lanes::for_each(candidates && !in_span(L), [&](int l) { look_up_span(L, l); });
+        Reals weighted = w * Reals(L.span_factor, aligned);
+        lanes::for_each(candidates && !in_span(L), [&](int l) {
+            weighted[l] = w[l] * static_cast<Real>(this->levels_.factor(stored_depth(L, l)));
+        });
+        return weighted;
+    }
+
+    /// The further copies of the kept lanes' records where w I > 1: floor(w I - 1 + u) each.
+    [[gnu::noinline]] void store_copies(const Lanes& L, const Mask& keep, const Reals& weighted, const Reals& u,
+                                        const Vec3& position, const Vec3& direction,
+                                        detail::BlockResult<Record>& out) const {
+        lanes::for_each(keep && weighted > Real(1), [&](int l) {
+            const Record rec = record(L, l, position, direction);
+            for (double i = std::floor(weighted[l] - 1.0 + u[l]); i > 0; --i) out.records.push_back(rec);
+        });
+    }
+
+    /// Lane l's record from the wrapped position and direction.
+    Record record(const Lanes& L, int l, const Vec3& position, const Vec3& direction) const {
+        return Record::make(vec3(position.x[l], position.y[l], position.z[l]),
+                            vec3(direction.x[l], direction.y[l], direction.z[l]), band_index{this->s_.band}, L.batch[l]);
+    }
+
+    /// The depth at which lane l's record stores its position (the record's own rounding).
+    double stored_depth(const Lanes& L, int l) const {
+        return Record::make(vec3(0.0, 0.0, L.z[l]), vec3(0.0, 0.0, 1.0), band_index{0}, 0).position().z;
     }
 
     /// The scattered lanes take their new direction and weight, one order higher.

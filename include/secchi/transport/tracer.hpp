@@ -798,7 +798,8 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// Russian roulette on the photon's weight (its cumulative survival probability),
     /// relative to its importance level (w I: the weight an unsplit photon would have).
     bool roulette(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        if (!physics_.roulette_due(std::ldexp(p.w, p.level))) return true;
+        // (level 0, the only one without depth importance, spares the call to ldexp)
+        if (!physics_.roulette_due(p.level == 0 ? p.w : std::ldexp(p.w, p.level))) return true;
         if (rng.uniform() < s_.roulette_survival) {
             const double w = p.w / s_.roulette_survival;
             ledger.roulette_gained += w - p.w;
