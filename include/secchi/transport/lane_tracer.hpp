@@ -102,7 +102,8 @@ public:
         : Base(medium, slab, surface, source, supported(std::move(settings))),
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(static_cast<Real>(
-              medium.coefficient(this->physics_.path_coefficient(), 0.0))) {}
+              medium.coefficient(this->physics_.path_coefficient(), 0.0))),
+          spans_(lane_spans(this->levels_)) {}
 
     /// A collimated sun and a uniform sky beside it (SunAndSky), as PhotonTracer's.
     LaneTracer(const M& medium, const slab_type& slab, const Surface& surface, const CollimatedSun& sun,
@@ -159,6 +160,7 @@ private:
         /// The depths [span_lo, span_hi) where the level is span_level and I(z) span_factor
         /// (ImportanceLevels::span narrowed by span_margin: inner_span, importance.hpp).
         alignas(64) Real span_lo[width], span_hi[width], span_level[width], span_factor[width];
+        std::uint32_t span_index[width];     ///< the span's index (ImportanceLevels::index_of)
         std::vector<std::array<Reals, 4>> tally;  ///< per depth, per lane (summed at the end)
         std::vector<Copy> copies;            ///< split-off photons waiting for a lane (taken last first)
     };
@@ -250,17 +252,24 @@ private:
         return {{L.x[l], L.y[l], L.z[l]}, {L.dx[l], L.dy[l], L.dz[l]}, L.w[l], static_cast<unsigned>(L.order[l]),
                 static_cast<int>(L.level[l])};
     }
-    /// Lane l takes photon p (and, with depth importance, the span of its depth).
+    /// Lane l takes photon p (and, with depth importance, 2^L and the span of its depth where
+    /// they changed: a span is a property of the depth, whichever photon is there).
     void put(Lanes& L, int l, const PhotonState& p) const {
         const auto real = [](double v) { return static_cast<Real>(v); };
         L.x[l] = real(p.pos.x), L.y[l] = real(p.pos.y), L.z[l] = real(p.pos.z);
         L.dx[l] = real(p.dir.x), L.dy[l] = real(p.dir.y), L.dz[l] = real(p.dir.z);
         L.w[l] = real(p.w);
         L.order[l] = static_cast<Real>(p.order);
-        L.level[l] = static_cast<Real>(p.level);
-        if (!this->importance_on_) return;
-        L.level_scale[l] = static_cast<Real>(std::ldexp(1.0, p.level));
-        look_up_span(L, l);
+        const Real level = static_cast<Real>(p.level);
+        if (!this->importance_on_) {
+            L.level[l] = level;
+            return;
+        }
+        if (level != L.level[l] || L.level_scale[l] == Real(0)) {  // (0: a lane's first photon)
+            L.level[l] = level;
+            L.level_scale[l] = static_cast<Real>(std::ldexp(1.0, p.level));
+        }
+        if (!(L.z[l] >= L.span_lo[l] && L.z[l] < L.span_hi[l])) look_up_span(L, l);
     }
 
     /// How much narrower than ImportanceLevels::span a lane's span is kept, relative to the
@@ -268,14 +277,30 @@ private:
     /// (float: 6e-8), so that a depth inside the kept span is stored at a depth of its level.
     static constexpr double span_margin = 1e-6;
 
-    /// Lane l's span from its depth.
+    /// A span as the lanes keep it: inner bounds, level and I(z) in Real.
+    struct LaneSpan {
+        Real lo, hi, level, factor;
+    };
+    /// Every span of the levels, made once (spans_).
+    static std::vector<LaneSpan> lane_spans(const ImportanceLevels& levels) {
+        std::vector<LaneSpan> spans;
+        for (std::uint32_t j = 0; j < levels.span_count(); ++j) {
+            const auto span = levels.span_at(j);
+            const InnerSpan<Real> inner = inner_span<Real>(span, span_margin);
+            spans.push_back({inner.lo, inner.hi, static_cast<Real>(span.level), static_cast<Real>(span.factor)});
+        }
+        return spans;
+    }
+
+    /// Lane l's span from its depth, stepping from the span it held.
     [[gnu::noinline]] void look_up_span(Lanes& L, int l) const {
-        const auto span = this->levels_.span(static_cast<double>(L.z[l]));
-        const InnerSpan<Real> inner = inner_span<Real>(span, span_margin);
-        L.span_lo[l] = inner.lo;
-        L.span_hi[l] = inner.hi;
-        L.span_level[l] = static_cast<Real>(span.level);
-        L.span_factor[l] = static_cast<Real>(span.factor);
+        const std::uint32_t j = this->levels_.index_of(static_cast<double>(L.z[l]), L.span_index[l]);
+        const LaneSpan& span = spans_[j];
+        L.span_index[l] = j;
+        L.span_lo[l] = span.lo;
+        L.span_hi[l] = span.hi;
+        L.span_level[l] = span.level;
+        L.span_factor[l] = span.factor;
     }
 
     /// Whether each lane's depth lies in its kept span.
@@ -523,6 +548,7 @@ private:
 
     lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)
     Real path_coefficient_;             ///< c, or b with continuous absorption (1/m)
+    std::vector<LaneSpan> spans_;       ///< the depth importance's spans (one, unbounded, without it)
 };
 
 /// LaneTracer in float lanes (twice the lanes per vector), with PhotonTracer's parameters.
