@@ -56,7 +56,6 @@
 #include "secchi/transport/tracer.hpp"
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #if SECCHI_HAS_LANES
