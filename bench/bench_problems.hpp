@@ -22,7 +22,7 @@ inline MapScene slab_scene(double zenith_deg, double n_water) {
 }
 
 /// Traced by PhotonTracer, or by another tracer of the same interface (LaneTracer).
-template <class Record, template <class, class> class Tracer = PhotonTracer, class Phase>
+template <class Record, template <class...> class Tracer = PhotonTracer, class Phase>
 TransportResult<Record> trace_slab(const Phase& phase, double w0, double zenith_deg, double n_water,
                                    std::uint64_t photons, unsigned threads, AbsorptionMode mode,
                                    std::vector<Record> storage = {}) {

@@ -42,7 +42,7 @@ using namespace secchi::bench;
 
 /// Scattering events per second on one core: analog transport, all events stored, into fresh
 /// memory every run, or (`reuse_map`) into the memory of the previous run's map.
-template <class Phase, template <class, class> class Tracer = PhotonTracer>
+template <class Phase, template <class...> class Tracer = PhotonTracer>
 double events_per_second(const Phase& phase, std::uint64_t photons, int repeats, bool reuse_map = false) {
     std::vector<CompactRecord> map;
     auto run = [&] {

@@ -256,7 +256,7 @@ std::size_t lanes_walk(std::uint64_t photons, std::vector<WalkRecord>& out) {
 /// events_per_s_per_core_hg; its records' mean depth (the same walk's check) goes to
 /// `mean_depth`. With `reuse`, the map's records go into the memory of the previous run's
 /// (as the bare walks reuse theirs), else into fresh memory.
-template <template <class, class> class Tracer>
+template <template <class...> class Tracer>
 std::size_t secchi_tracer(std::uint64_t photons, double& mean_depth, std::vector<CompactRecord>* reuse) {
     auto records = trace_slab<CompactRecord, Tracer>(HenyeyGreensteinPhase(g_hg), w0, 0.0, 1.0, photons, 1,
                                                      AbsorptionMode::analog,

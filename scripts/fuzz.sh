@@ -17,8 +17,8 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_material_file fuzz_cli)
 build=${BUILD_DIR:-build-fuzz}
 bash scripts/setup.sh
-# RelWithDebInfo: optimized, with line numbers in the reports. SECCHI_DISABLE_LANES: clang 14
-# with libstdc++ builds the portable path (as scripts/clang_tests.sh).
+# RelWithDebInfo: optimized, with line numbers in the reports. SECCHI_DISABLE_LANES: the portable
+# path (as scripts/clang_tests.sh's first build); the targets parse input, nothing runs in lanes.
 CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSECCHI_WERROR=ON \
     -DSECCHI_BUILD_FUZZERS=ON -DSECCHI_BUILD_TESTS=OFF -DSECCHI_BUILD_APPS=OFF -DSECCHI_BUILD_PYTHON=OFF \
     -DCMAKE_CXX_FLAGS=-DSECCHI_DISABLE_LANES >/dev/null

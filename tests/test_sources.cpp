@@ -55,13 +55,8 @@ void check_chi_square(const std::vector<double>& counts, const std::vector<doubl
 
 using Water = HomogeneousWater<HenyeyGreensteinPhase>;
 
-/// PhotonTracer with exactly the four parameters trace() takes (clang 14 does not match a
-/// template with more, defaulted, parameters to a template template parameter).
-template <class M, class Record, class Surface, class Source>
-using PhotonTracerOf4 = PhotonTracer<M, Record, Surface, Source>;
-
 /// HG water (g = 0.8, albedo w0, c = 1 /m) over a Lambertian bottom at 4 m (or infinitely deep).
-template <template <class, class, class, class> class Tracer = PhotonTracerOf4, class Source>
+template <template <class...> class Tracer = PhotonTracer, class Source>
 TransportResult<CompactRecord> trace(const Source& source, TransportSettings s, double w0 = 0.9,
                                      Bottom bottom = Bottom::lambertian_at(4.0, 0.5)) {
     const auto water = Water::from_albedo(1.0, w0, HenyeyGreensteinPhase(0.8));

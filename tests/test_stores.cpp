@@ -258,7 +258,7 @@ TEMPLATE_TEST_CASE("along matches brute force where in_cylinder's rounding domin
             // may fuse the two codes differently. Each component of perp = d - t u then differs
             // by at most a few ulp of |d| <= far + 1 (delta = 8 eps (far + 1)), so for records
             // within 4 r of the axis dist^2 = perp . perp differs by at most delta (8 r + delta).
-#if defined(__FP_FAST_FMA)
+#if defined(__FMA__)
             const double delta = 8.0 * std::numeric_limits<double>::epsilon() * (far + 1.0);
             const double d2_slack = delta * (8.0 * r + delta);
 #else
@@ -495,7 +495,7 @@ void require_in_cylinder_values(const Store& store, const std::vector<Query>& qu
         REQUIRE(got.hits.size() == want.hits.size());
         for (std::size_t k = 0; k < got.hits.size(); ++k) {
             REQUIRE(got.hits[k].index == want.hits[k].index);
-#if defined(__FP_FAST_FMA)  // the compiler may fuse a * b + c differently in the two codes
+#if defined(__FMA__)  // the compiler may fuse a * b + c differently in the two codes
             REQUIRE(close(got.hits[k].t, want.hits[k].t));
             REQUIRE(close(got.hits[k].distance2, want.hits[k].distance2));
 #else

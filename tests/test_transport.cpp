@@ -246,7 +246,7 @@ TEST_CASE("Beer-Lambert with continuous absorption is exact per photon") {
 }
 
 TEST_CASE("The surface's detector counts every photon that reaches the surface from below") {
-    testing::check_surface_plane_counts_every_crossing<testing::PhotonTracerOf3>(1e-12);
+    testing::check_surface_plane_counts_every_crossing<PhotonTracer>(1e-12);
 }
 
 TEST_CASE("Results are bit-identical for 1 and 2 threads", "[threads]") {
@@ -510,7 +510,7 @@ TEST_CASE("Invalid transport settings are rejected by name") {
 TEST_CASE("A detector on a Lambertian bottom sees Eu = A Ed (exact with weighted photons)") {
     // The plane sits 1e-12 of the depth above the bottom: with continuous absorption a weight
     // there differs from the bottom's by a t < 1e-10 relative.
-    testing::check_bottom_plane_counts_every_arrival<testing::PhotonTracerOf2>(1e-10);
+    testing::check_bottom_plane_counts_every_arrival<PhotonTracer>(1e-10);
 }
 
 namespace {

@@ -14,14 +14,6 @@
 
 namespace secchi::testing {
 
-/// PhotonTracer with exactly the parameters the checks below take (a template template
-/// parameter matches a template with more, defaulted, parameters only under C++17's relaxed
-/// rule, which clang 14 does not apply by default).
-template <class M, class Record, class Surface>
-using PhotonTracerOf3 = PhotonTracer<M, Record, Surface>;
-template <class M, class Record>
-using PhotonTracerOf2 = PhotonTracer<M, Record>;
-
 inline void check_agree(const Estimate& x, const Estimate& y, const std::string& what) {
     INFO(what << ": " << x.value << " +- " << x.se << " vs " << y.value << " +- " << y.se);
     CHECK(std::abs(x.value - y.value) <= 4.0 * std::hypot(x.se, y.se));
@@ -71,7 +63,7 @@ void require_same_for_1_and_2_threads(AbsorptionMode mode, Trace&& trace) {
 /// with a reflecting bottom; under a flat surface, and under a wind-blown one with a grazing sun,
 /// whose photons meet the surface again when a tilted facet sends them back across it (their
 /// hits make no flights, so the plane must see only where each history finally crosses).
-template <template <class, class, class> class Tracer>
+template <template <class...> class Tracer>
 void check_surface_plane_counts_every_crossing(double relative) {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
     const auto water = Water::from_albedo(1.0, 0.9, HenyeyGreensteinPhase(0.5));
@@ -107,7 +99,7 @@ void check_surface_plane_counts_every_crossing(double relative) {
 /// no roulette) Eu(bottom) = A Ed(bottom). Identities, to the rounding of the sums
 /// (`relative`); the bottom at 3.3 m, a depth no float holds (float lanes keep the floor at
 /// the float nearest it).
-template <template <class, class> class Tracer>
+template <template <class...> class Tracer>
 void check_bottom_plane_counts_every_arrival(double relative) {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
     const auto water = Water::from_albedo(1.0, 0.5, HenyeyGreensteinPhase(0.9));

@@ -1,10 +1,11 @@
 #pragma once
 // Photons in lanes: `lane_width` photons at once as SIMD vectors of doubles
-// (std::experimental::simd, the Parallelism TS 2; GCC >= 11 and libstdc++), for LaneTracer
-// (transport/lane_tracer.hpp). The types, and what only the lanes need: a logarithm for the
-// free path -ln u (manual eq. 3.17), table lookups per lane and masks as bits. sin_cos and
-// rotate_direction are math.hpp's, written once for doubles and vectors. Also exp, for the
-// transmittances of many collected photons at once (estimate/path_radiance.hpp).
+// (std::experimental::simd, the Parallelism TS 2, as libstdc++ implements it: GCC >= 11, or
+// clang with libstdc++, below), for LaneTracer (transport/lane_tracer.hpp). The types, and
+// what only the lanes need: a logarithm for the free path -ln u (manual eq. 3.17), table
+// lookups per lane and masks as bits. sin_cos and rotate_direction are math.hpp's, written once
+// for doubles and vectors. Also exp, for the transmittances of many collected photons at once
+// (estimate/path_radiance.hpp).
 //
 // The lanes are the target's native vector of doubles (2 with SSE2, 4 with AVX2, 8 with
 // AVX-512), or of floats (twice as many: LaneTracer's float lanes): a portable build gains
@@ -12,10 +13,17 @@
 // depend on the lane count (each photon draws from its own random stream); the order of the
 // stored records and the rounding of the tallies' sums do.
 //
-// Where <experimental/simd> is absent (or SECCHI_DISABLE_LANES is defined, to build and test
-// that case anywhere), SECCHI_HAS_LANES stays undefined and everything runs one photon at a
-// time: LaneTracer is not declared, and the estimators' SIMD loops take their scalar forms.
-#if __has_include(<experimental/simd>) && !defined(SECCHI_DISABLE_LANES)
+// Where libstdc++'s <experimental/simd> is absent (another standard library, or GCC < 11), or
+// SECCHI_DISABLE_LANES is defined (to build and test that case anywhere), SECCHI_HAS_LANES
+// stays undefined and everything runs one photon at a time: LaneTracer is not declared, and the
+// estimators' SIMD loops take their scalar forms. So also under clang with AVX-512: there clang
+// (14) compiles libstdc++ (12)'s AVX-512 masks so that a masked assignment `where(m, v) = x`
+// leaves v unchanged in every lane (sin_cos's quadrants came out wrong; the lanes' select test in
+// tests/test_lane_tracer.cpp shows it); clang with SSE2 or AVX2 builds the lanes and passes their
+// tests.
+#include <version>  // __GLIBCXX__: which standard library
+#if __has_include(<experimental/simd>) && defined(__GLIBCXX__) && !defined(SECCHI_DISABLE_LANES) && \
+    !(defined(__clang__) && defined(__AVX512F__))
 // GCC 12's AVX-512 intrinsics (included through <experimental/simd>) warn about their own
 // deliberately undefined vectors (GCC bug 105593, fixed in GCC 13); the warnings point into
 // those headers, so they are silenced where the headers are read.

@@ -87,6 +87,22 @@ SECCHI_KERNEL bool any_lane(const Mask& m) {
     else return any_of(m);
 }
 
+/// copysign(1, x): +1 or -1 with the sign bit of x (-1 for -0), for a double or a SIMD vector.
+/// Under clang, vectors take signbit and a select, the same values: clang (14) cannot compile
+/// libstdc++ 12's simd copysign (a bit mask it declares constexpr is not a constant expression
+/// there).
+template <class Real>
+SECCHI_KERNEL Real unit_with_sign_of(const Real& x) {
+    using T = scalar_t<Real>;
+    using std::copysign;
+#if defined(__clang__)
+    if constexpr (!std::is_same_v<Real, T>) return select(signbit(x), Real(T(-1)), Real(T(1)));
+    else return copysign(T(1), x);
+#else
+    return copysign(Real(T(1)), x);
+#endif
+}
+
 /// x wrapped into [0, W) with period W (a section's periodic copies, scene/slab.hpp):
 /// x - W floor(x / W), and 0 where rounding gives W itself (x a hair below a multiple of W).
 /// For a double, or a SIMD vector of doubles or floats (photons in lanes).
@@ -242,10 +258,10 @@ struct Vec3Of {
 /// For directions as components (doubles, or SIMD vectors of them: photons in lanes).
 template <class Real>
 SECCHI_KERNEL Vec3Of<Real> rotate_direction(const Vec3Of<Real>& d, Real cos_psi, Real phi) {
-    using std::copysign, std::max, std::sqrt;
+    using std::max, std::sqrt;
     using T = scalar_t<Real>;
     const Real sin_psi = sqrt(max(Real(T(0)), T(1) - cos_psi * cos_psi));
-    const Real sign = copysign(Real(T(1)), d.z);
+    const Real sign = unit_with_sign_of(d.z);
     const Real a = T(-1) / (sign + d.z);
     const Real b = d.x * d.y * a;
     const SinCosOf<Real> az = sin_cos(phi);

@@ -112,7 +112,7 @@ SECCHI_KERNEL Real encode_phi(const Real& dx, const Real& dy) {
     lanes::for_each(fraction < phi_margin<T> || fraction > T(1) - phi_margin<T>,
                     [&](int l) { j[l] = T(encode_phi(double(dx[l]), double(dy[l]))); });
     // At the poles, atan2's choice: 0, or 128 for dx = -0.
-    return select(pole, select(lanes::stdx::copysign(Real(T(1)), dx) < T(0), Real(T(128)), Real(T(0))), j);
+    return select(pole, select(signbit(dx), Real(T(128)), Real(T(0))), j);
 }
 }  // namespace detail
 
