@@ -75,10 +75,10 @@ photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 problems 2a, 2b, 3, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
 p linear in angle, p(0.1 deg) below 0.1 deg; the others are M93's power-law readings, for
 showing the sensitivity: canonical_problems.md, problem 2).
---tracer {tracers} (default photon): lanes traces problems 1a, 1b, 2a, 4, 5 and 6 with
-LaneTracer (photons in SIMD lanes of doubles; 1b's depth importance too), lanes-float in lanes
-of floats; 2b (its backscatter bias; in lanes with --backscatter-bias 0) and problem 3's
-stratified water are always traced by PhotonTracer.
+--tracer {tracers} (default photon): lanes traces problems 1a, 1b, 2a, 2b, 4, 5 and 6 with
+LaneTracer (photons in SIMD lanes of doubles, with their depth importance and 2b's backscatter
+bias), lanes-float in lanes of floats; problem 3's stratified water is always traced by
+PhotonTracer.
 --problem kirk (also in all) checks the first pass against Kirk's AOP relations
 (canonical_problems.md section 7, manual 7.5; no photon map, so --store is not needed for it
 alone): sun at nadir, level surface, canonical Petzold, a = 1 /m, b for k = b_b/(a + b_b) =
@@ -231,14 +231,13 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     t.upward_importance = cl.number("upward-importance", 0.0);
     t.upward_lobe = cl.number("upward-lobe", t.upward_lobe);
     cfg.store = parse_store(cl.required_text("store"));
-    // LaneTracer for the homogeneous problems without a backscatter bias; the others (2b and
-    // problem 3's stratified water) are PhotonTracer's.
-    if (p.id != "3" && t.backscatter_bias == 0.0) cfg.tracer = parse_tracer(cl.text("tracer", "photon"));
-    // The backscatter bias needs PhotonTracer in homogeneous water whose phase function names
-    // its backward uniforms (the Petzold tables here): checked before any problem runs.
-    if (t.backscatter_bias > 0.0 && (p.id == "3" || p.phase != "petzold" || cfg.tracer != TracerKind::photon))
+    // LaneTracer for the homogeneous problems; problem 3's stratified water is PhotonTracer's.
+    if (p.id != "3") cfg.tracer = parse_tracer(cl.text("tracer", "photon"));
+    // The backscatter bias needs homogeneous water whose phase function names its backward
+    // uniforms (the Petzold tables here): checked before any problem runs.
+    if (t.backscatter_bias > 0.0 && (p.id == "3" || p.phase != "petzold"))
         reject("--backscatter-bias", cl.text("backscatter-bias"),
-               "problem " + p.id + " cannot take it (PhotonTracer in Petzold water only: problems 2a, 2b, 4, 5, 6)");
+               "problem " + p.id + " cannot take it (homogeneous Petzold water only: problems 2a, 2b, 4, 5, 6)");
     // Upward importance needs PhotonTracer in homogeneous water.
     if (t.upward_importance > 0.0 && (p.id == "3" || cfg.tracer != TracerKind::photon))
         reject("--upward-importance", cl.text("upward-importance"),

@@ -66,10 +66,12 @@ Variance reduction (transport/importance.hpp):
                below it; auto: mu_i = 1 where the water absorbs an optical depth of ln 2 or more
                down to the deepest detector, else off; 0: off; in the lanes tracers with
                weighted photons only: not with --absorption analog)
-The others are off by default, PhotonTracer only:
+The others are off by default:
   --backscatter-bias 0 (a share of the scattering angles drawn from the phase function's
-               backward part: the upwelling irradiances at depth)
-  --upward-importance 0 --upward-lobe 0.9 (a share of the scattering directions drawn from a
+               backward part: the upwelling irradiances at depth; weighted photons only: not
+               with --absorption analog)
+  --upward-importance 0 --upward-lobe 0.9 (PhotonTracer only: a share of the scattering
+               directions drawn from a
                lobe of this Henyey-Greenstein g about straight up, the map stored by direction:
                the nadir radiance where the phase function's peak is broad; not with
                --backscatter-bias)

@@ -113,7 +113,33 @@ TEST_CASE("backscatter bias: refused where it cannot be drawn") {
     CHECK_THROWS_WITH((PhotonTracer<IsoWater, CompactRecord>(iso, slab, FlatSurface(1.34), CollimatedSun(30.0), s)),
                       Catch::Contains("backscatter bias"));
 #if SECCHI_HAS_LANES
-    CHECK_THROWS_WITH((LaneTracer<HgWater, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s)),
+    CHECK_NOTHROW(LaneTracer<HgWater, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s));
+    CHECK_THROWS_WITH((FloatLaneTracer<IsoWater, CompactRecord>(iso, slab, FlatSurface(1.34), CollimatedSun(30.0), s)),
                       Catch::Contains("backscatter bias"));
 #endif
+    // Analog photons store every event whatever its weight: the bias's weights would be lost.
+    s.absorption = AbsorptionMode::analog;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("backscatter bias") && Catch::Contains("analog"));
+}
+
+TEST_CASE("backscatter bias in floats (the float lanes'): the weights are 1 / q of the float draws") {
+    // The bounds and eps rounded to float, the weights from the rounded values: over a midpoint
+    // grid of float uniforms the weights average to 1 and the backward draws stay in [a, b).
+    for (const auto& [eps, a, b] : std::vector<std::array<double, 3>>{{0.2, 0.981718, 1.0}, {0.3, 0.0, 0.25}}) {
+        const BackscatterBiasOf<float> bias(eps, a, b);
+        const float fa = static_cast<float>(a), fb = static_cast<float>(b);
+        const int n = 1 << 20;
+        double sum = 0.0;
+        int outside = 0;
+        for (int k = 0; k < n; ++k) {
+            const auto d = bias.draw(static_cast<float>((k + 0.5) / n));
+            outside += d.u >= 0.0f && d.u < 1.0f ? 0 : 1;
+            sum += d.weight;
+            if (static_cast<float>((k + 0.5) / n) < static_cast<float>(eps)) outside += d.u >= fa && d.u < fb ? 0 : 1;
+        }
+        INFO("eps " << eps << " [" << a << ", " << b << ")");
+        CHECK(outside == 0);
+        CHECK(sum / n == Approx(1.0).epsilon(1e-5));
+    }
+    CHECK_THROWS_WITH(BackscatterBiasOf<float>(0.2, 0.5, 0.5 + 1e-9), Catch::Contains("backward fraction"));
 }

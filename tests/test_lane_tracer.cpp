@@ -697,6 +697,81 @@ TEST_CASE("LaneTracer with depth importance is bit-identical for 1 and 2 threads
     });
 }
 
+namespace {
+/// `Tracer` with backscatter bias (importance.hpp) against PhotonTracer with the same, and
+/// against itself without: the irradiances (Eu and Eou at depth are what the bias is for),
+/// Ed at the bottom, the records per photon (a record per unit of weight: the forward draws'
+/// weights above 1 store further copies), the ledger (the weights' changes booked); with and
+/// without depth importance.
+template <template <class...> class Tracer>
+void check_backscatter_bias_agrees(bool with_importance) {
+    TransportSettings s;
+    s.photons = s.map_photons = 40000;
+    s.depths = {0.0, 2.0, 5.0, 8.0};
+    s.backscatter_bias = 0.3;
+    if (with_importance) s.importance = {0.7, 8.0};
+    const Bottom bottom = Bottom::lambertian_at(10.0, 0.3);
+    const TabulatedPhase petzold = petzold_m93();
+    const auto a = trace<PhotonTracer>(petzold, s, bottom);
+    const auto b = trace<Tracer>(petzold, s, bottom);
+    TransportSettings plain = s;
+    plain.backscatter_bias = 0.0;
+    const auto c = trace<Tracer>(petzold, plain, bottom);
+    INFO("depth importance " << with_importance);
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            INFO("depth " << s.depths[i] << ", quantity " << k);
+            testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance, against PhotonTracer");
+            testing::check_agree(c.irradiance[i][k], b.irradiance[i][k], "irradiance, against no bias");
+        }
+    testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
+    testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon, against PhotonTracer");
+    testing::check_agree(events_per_photon(c), events_per_photon(b), "stored events per photon, against no bias");
+    CHECK(b.ledger.incident == 1.0);
+    CHECK(std::abs(b.ledger.imbalance()) < 5e-3);
+    // The forward draws' factor 1 / (1 - eps) adds weight at most events (booked as gained).
+    CHECK(b.ledger.roulette_gained > 10.0 * c.ledger.roulette_gained + 0.1);
+}
+}  // namespace
+
+TEST_CASE("LaneTracer with backscatter bias agrees with PhotonTracer's and with none, in double and float lanes") {
+    for (bool with_importance : {false, true}) {
+        check_backscatter_bias_agrees<LaneTracer>(with_importance);
+        check_backscatter_bias_agrees<FloatLaneTracer>(with_importance);
+    }
+}
+
+TEMPLATE_TEST_CASE("Backscatter bias draws in lanes what it draws for one value", "", double, float) {
+    using V = lanes::LanesOf<TestType>;
+    const TabulatedPhase petzold = petzold_m93();
+    const auto [begin, end] = petzold.backward_uniforms();
+    const BackscatterBiasOf<TestType> bias(0.2, begin, end);
+    const auto u = uniforms(4096, 13);
+    for (std::size_t i = 0; i + V::size() <= u.size(); i += V::size()) {
+        const V v = lanes_of<V>([&](int l) { return u[i + l]; });
+        const auto d = bias.draw(v);
+        for (std::size_t l = 0; l < V::size(); ++l) {
+            const auto one = bias.draw(static_cast<TestType>(v[l]));
+            REQUIRE(d.u[l] == one.u);
+            REQUIRE(d.weight[l] == one.weight);
+        }
+    }
+}
+
+TEST_CASE("LaneTracer with backscatter bias is bit-identical for 1 and 2 threads, in double and float lanes", "[threads]") {
+    const auto with_bias = [](const TransportSettings& given) {
+        TransportSettings s = given;
+        s.backscatter_bias = 0.2;
+        return s;
+    };
+    testing::require_same_for_1_and_2_threads(AbsorptionMode::implicit_capture, [&](const TransportSettings& s) {
+        return trace<LaneTracer>(petzold_m93(), with_bias(s), Bottom::lambertian_at(8.0, 0.3));
+    });
+    testing::require_same_for_1_and_2_threads(AbsorptionMode::implicit_capture, [&](const TransportSettings& s) {
+        return trace<FloatLaneTracer>(petzold_m93(), with_bias(s), Bottom::lambertian_at(8.0, 0.3));
+    });
+}
+
 TEST_CASE("LaneTracer rejects depth importance with analog photons by name") {
     TransportSettings s;
     s.photons = 100;

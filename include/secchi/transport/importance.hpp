@@ -28,6 +28,7 @@
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -49,37 +50,58 @@ namespace secchi::SECCHI_ISA {
 /// forward draws, 1 / (1 - eps + eps / B) for the backward ones. Every expectation is unchanged
 /// whatever eps and [a, b). One uniform u serves both choices: u < eps picks the backward
 /// part, with u / eps its uniform mapped onto [a, b); otherwise (u - eps) / (1 - eps).
-class BackscatterBias {
+/// In Real = double (PhotonTracer, LaneTracer's double lanes) or float (the float lanes): eps,
+/// a and b are rounded to Real and the weights computed from the rounded values, so that they
+/// are 1 / q of the draws the lanes make. draw() takes a Real or a SIMD vector of Reals.
+template <class Real>
+class BackscatterBiasOf {
 public:
-    BackscatterBias() = default;  ///< off: draw(u) = {u, 1}
+    BackscatterBiasOf() = default;  ///< off: draw(u) = {u, 1}
     /// share: eps in [0, 1); [begin, end): the backward uniforms, 0 <= begin < end <= 1.
-    BackscatterBias(double share, double begin, double end) : share_(share), begin_(begin), end_(end) {
+    BackscatterBiasOf(double share, double begin, double end) : given_{share, begin, end} {
         require(std::isfinite(share) && share >= 0.0 && share < 1.0, "backscatter bias", share, "must be in [0, 1) (0 = off)");
         require(begin >= 0.0 && end <= 1.0 && end > begin, "backward fraction of the phase function", end - begin,
                 "must be positive: the phase function sends nothing backward");
-        last_backward_ = std::nextafter(end, 0.0);
-        forward_weight_ = 1.0 / (1.0 - share);
-        backward_weight_ = 1.0 / (1.0 - share + share / (end - begin));
+        share_ = static_cast<Real>(share);
+        begin_ = static_cast<Real>(begin);
+        end_ = static_cast<Real>(end);
+        require(end_ > begin_, "backward fraction of the phase function", end - begin,
+                "is below the rounding of its bounds in the lanes' type");
+        last_backward_ = std::nextafter(end_, Real(0));
+        const double eps = share_, fraction = static_cast<double>(end_) - static_cast<double>(begin_);
+        forward_weight_ = static_cast<Real>(1.0 / (1.0 - eps));
+        backward_weight_ = static_cast<Real>(1.0 / (1.0 - eps + eps / fraction));
     }
 
-    [[nodiscard]] bool enabled() const { return share_ > 0.0; }
+    [[nodiscard]] bool enabled() const { return share_ > Real(0); }
+    /// The same bias drawn in another type (the float lanes').
+    template <class Other>
+    [[nodiscard]] BackscatterBiasOf<Other> in() const {
+        return enabled() ? BackscatterBiasOf<Other>(given_[0], given_[1], given_[2]) : BackscatterBiasOf<Other>{};
+    }
 
-    struct Draw {
-        double u;       ///< the uniform for the phase function's inverse CDF
-        double weight;  ///< the factor on the photon's weight, 1 / q(u)
+    template <class V>
+    struct DrawOf {
+        V u;       ///< the uniform for the phase function's inverse CDF
+        V weight;  ///< the factor on the photon's weight, 1 / q(u)
     };
-    [[nodiscard]] Draw draw(double u) const {
-        if (share_ == 0.0) return {u, 1.0};
-        const double v = u < share_ ? std::min(begin_ + (end_ - begin_) * (u / share_), last_backward_)
-                                    : (u - share_) / (1.0 - share_);
-        return {v, v >= begin_ && v < end_ ? backward_weight_ : forward_weight_};
+    using Draw = DrawOf<Real>;
+    template <class V>
+    [[nodiscard]] SECCHI_KERNEL DrawOf<V> draw(const V& u) const {
+        using std::min;
+        if (share_ == Real(0)) return {u, V(Real(1))};
+        const V v = select(u < share_, min(V(begin_ + (end_ - begin_) * (u / share_)), V(last_backward_)),
+                           V((u - share_) / (Real(1) - share_)));
+        return {v, select(v >= begin_ && v < end_, V(backward_weight_), V(forward_weight_))};
     }
 
 private:
-    double share_ = 0.0, begin_ = 0.0, end_ = 1.0;
-    double last_backward_ = std::nextafter(1.0, 0.0);  ///< the largest double below end_
-    double forward_weight_ = 1.0, backward_weight_ = 1.0;
+    std::array<double, 3> given_{0.0, 0.0, 1.0};  ///< share, begin, end as given
+    Real share_ = 0, begin_ = 0, end_ = 1;
+    Real last_backward_ = std::nextafter(Real(1), Real(0));  ///< the largest Real below end_
+    Real forward_weight_ = 1, backward_weight_ = 1;
 };
+using BackscatterBias = BackscatterBiasOf<double>;
 
 /// Upward importance, a directional importance for the nadir radiance from the map (Spanier &
 /// Gelbard 1969, importance sampling of the collision kernel; as a mixture with the phase

@@ -27,16 +27,23 @@
 // on w 2^L. Whether a depth keeps its lane's level is two comparisons per lane with the
 // depths where its level holds (ImportanceLevels::span, kept per lane and narrowed by a
 // relative 1e-6 so that the record's rounded depth shares it: inner_span); a lane outside
-// looks its level up. Without depth importance the step is compiled without any of this. A copy draws from its own stream: the parent's stream from a Philox block derived from
-// the parent's next block and the copy's number (split_block), so that its history does not
+// looks its level up. Without depth importance the step is compiled without any of this. A
+// copy draws from its own stream: the parent's stream from a Philox block derived from the
+// parent's next block and the copy's number (split_block), so that its history does not
 // depend on which lane takes it.
+//
+// Backscatter bias (importance.hpp) as PhotonTracer's, in the vectors: the scattering angle's
+// uniform drawn from the biased density and the weight times 1 / q (BackscatterBiasOf<Real>:
+// in float lanes its bounds and weights in float); an event whose weight exceeds 1 stores
+// further copies of its record, as with depth importance.
 //
 // For homogeneous water (depth_independent media), without objects in the water
 // (scene/geometry.hpp: LaneTracer has no geometry parameter; its base is PhotonTracer with
 // NoGeometry), with weighted photons where depth importance is on (absorption implicit or
-// continuous); use PhotonTracer for those. Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
-// Henyey-Greenstein, or a table with the trapezoid convention such as Petzold) sample in the
-// vectors; any other samples lane by lane.
+// continuous), without upward importance or a surface map; use PhotonTracer for those. Phase
+// functions with a per-lane inverse CDF (cos_psi(Reals), e.g. Henyey-Greenstein, or a table
+// with the trapezoid convention such as Petzold) sample in the vectors; any other samples lane
+// by lane.
 //
 // In lanes of doubles (LaneTracer<M, R>) or of floats (FloatLaneTracer<M, R> =
 // LaneTracer<M, R, float>: twice the lanes per vector, 8 with AVX2). In float lanes a step's
@@ -102,7 +109,7 @@ public:
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(static_cast<Real>(
               medium.coefficient(this->physics_.path_coefficient(), 0.0))),
-          spans_(lane_spans(this->levels_)) {}
+          spans_(lane_spans(this->levels_)), lane_bias_(Base::bias_.template in<Real>()) {}
 
     /// A collimated sun and a uniform sky beside it (SunAndSky), as PhotonTracer's.
     LaneTracer(const M& medium, const slab_type& slab, const Surface& surface, const CollimatedSun& sun,
@@ -128,8 +135,6 @@ private:
         require(!s.importance.enabled() || s.absorption != AbsorptionMode::analog, "depth importance (cosine)",
                 s.importance.cosine, "needs weighted photons in LaneTracer (absorption implicit or continuous, not analog)");
         require(!s.surface_map, "surface map", "on", "is not kept by LaneTracer; use PhotonTracer");
-        require(s.backscatter_bias == 0.0, "backscatter bias", s.backscatter_bias,
-                "is not drawn by LaneTracer; use PhotonTracer");
         require(s.upward_importance == 0.0, "upward importance", s.upward_importance,
                 "is not drawn by LaneTracer; use PhotonTracer");
         return s;
@@ -149,6 +154,9 @@ private:
         alignas(64) Real x[width], y[width], z[width], dx[width], dy[width], dz[width], w[width];
         alignas(64) Real order[width];     ///< scattering order (exact below 2^24 in a float)
         alignas(64) Real absorbed[width];  ///< weight absorbed in the water, per lane (summed at the end)
+        /// The backscatter bias's weight changes, per lane (summed at the end): added where its
+        /// factor is above 1, removed where below (the ledger's roulette entries, as PhotonTracer's).
+        alignas(64) Real bias_gained[width], bias_killed[width];
         alignas(64) bool alive[width];
         alignas(64) bool stores[width];      ///< whether the photon's events go into the map
         std::uint8_t batch[width];           ///< and in which batch
@@ -198,11 +206,16 @@ private:
         }
     }
 
-    /// Adds the lanes' absorbed weight and tallies to the block's sums (in lane order), and
-    /// zeroes them.
+    /// Adds the lanes' absorbed weight, the bias's weight changes and the tallies to the
+    /// block's sums (in lane order), and zeroes them.
     static void flush(Lanes& L, detail::BlockResult<Record>& out) {
-        for (int l = 0; l < width; ++l) out.ledger.absorbed += L.absorbed[l];
-        std::fill(std::begin(L.absorbed), std::end(L.absorbed), Real(0));
+        const auto add = [](double& sum, Real* lane_sums) {
+            for (int l = 0; l < width; ++l) sum += lane_sums[l];
+            std::fill(lane_sums, lane_sums + width, Real(0));
+        };
+        add(out.ledger.absorbed, L.absorbed);
+        add(out.ledger.roulette_gained, L.bias_gained);
+        add(out.ledger.roulette_killed, L.bias_killed);
         for (std::size_t i = 0; i < L.tally.size(); ++i)
             for (int k = 0; k < 4; ++k) {
                 for (int l = 0; l < width; ++l) out.tally[i][k] += L.tally[i][k][l];
@@ -412,14 +425,17 @@ private:
         absorbed_weight.copy_to(L.absorbed, aligned);
         const Reals w_after = absorption.w;
         const Mask scatters = interacts && !absorbed;
-        const auto [cos_psi, phi] =
-            EventPhysics::angles(this->medium_, Reals(L.z, aligned), Reals(u.psi, aligned), Reals(u.phi, aligned));
+        // The scattering angle's uniform, and with backscatter bias its biased draw and the
+        // weight's factor 1 / q (PhotonTracer::interact, importance.hpp).
+        Reals u_psi(u.psi, aligned), w_scattered = w_after;
+        if (lane_bias_.enabled()) draw_biased(L, scatters, u_psi, w_scattered);
+        const auto [cos_psi, phi] = EventPhysics::angles(this->medium_, Reals(L.z, aligned), u_psi, Reals(u.phi, aligned));
         const Vec3 after = rotate_direction(before, cos_psi, phi);
 
         store_events<with_importance>(L, scatters, w_after, u_absorb_or_store, out);
-        scatter(L, scatters, w_after, after);
-        const Mask roulette =
-            scatters && physics.roulette_due(with_importance ? w_after * Reals(L.level_scale, aligned) : w_after);
+        scatter(L, scatters, w_scattered, after);
+        const Mask roulette = scatters && physics.roulette_due(with_importance ? w_scattered * Reals(L.level_scale, aligned)
+                                                                               : w_scattered);
         // What only some photons meet, in one pass over their lanes in lane order (each kind
         // of event adds to its own ledger entries, so their sums keep the lanes' order); a lane
         // whose photon ended takes the block's next one.
@@ -495,7 +511,8 @@ private:
         Record* room = out.records.room(width);
         out.records.commit(LaneRecords<Record>::make_kept(position, direction, band_index{this->s_.band}, L.batch,
                                                           lanes::bits_of(keep), room));
-        if constexpr (with_importance) store_copies(L, keep, weighted, u, position, direction, out);
+        // Weights above 1 come from depth importance (w I) and from backscatter bias's forward factor.
+        if (any_of(keep && weighted > Real(1))) store_copies(L, keep, weighted, u, position, direction, out);
     }
 
     /// w I(z) per lane, I at the record's depth: the lane's span's factor, looked up where the
@@ -531,6 +548,20 @@ private:
         return Record::make(vec3(0.0, 0.0, L.z[l]), vec3(0.0, 0.0, 1.0), band_index{0}, 0).position().z;
     }
 
+    /// Backscatter bias for the scattering lanes: u_psi becomes the biased draw, w the weight
+    /// times 1 / q, and the change is booked per lane (PhotonTracer::reweight).
+    void draw_biased(Lanes& L, const Mask& scatters, Reals& u_psi, Reals& w) const {
+        const auto draw = lane_bias_.draw(u_psi);
+        u_psi = draw.u;
+        const Reals biased = w * draw.weight;
+        Reals gained(L.bias_gained, aligned), killed(L.bias_killed, aligned);
+        lanes::stdx::where(scatters && biased > w, gained) = gained + (biased - w);
+        lanes::stdx::where(scatters && biased < w, killed) = killed + (w - biased);
+        gained.copy_to(L.bias_gained, aligned);
+        killed.copy_to(L.bias_killed, aligned);
+        w = biased;
+    }
+
     /// The scattered lanes take their new direction and weight, one order higher.
     static void scatter(Lanes& L, const Mask& scatters, const Reals& w, const Vec3& after) {
         auto update = [&](Real* v, const Reals& value) {
@@ -548,6 +579,7 @@ private:
     lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)
     Real path_coefficient_;             ///< c, or b with continuous absorption (1/m)
     std::vector<LaneSpan> spans_;       ///< the depth importance's spans (one, unbounded, without it)
+    BackscatterBiasOf<Real> lane_bias_;  ///< PhotonTracer's backscatter bias in Real (off by default)
 };
 
 /// LaneTracer in float lanes (twice the lanes per vector), with PhotonTracer's parameters.

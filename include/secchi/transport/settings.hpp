@@ -103,6 +103,9 @@ struct TransportSettings {
         importance.validate();
         require(std::isfinite(backscatter_bias) && backscatter_bias >= 0.0 && backscatter_bias < 1.0, "backscatter bias",
                 backscatter_bias, "must be in [0, 1) (0 = off)");
+        require(backscatter_bias == 0.0 || absorption != AbsorptionMode::analog, "backscatter bias", backscatter_bias,
+                "needs weighted photons (absorption implicit or continuous, not analog): analog photons store every "
+                "event whatever its weight");
         UpwardImportance::checked_share(upward_importance);
         UpwardImportance::checked_lobe(upward_lobe);
         require(upward_importance == 0.0 || backscatter_bias == 0.0, "upward importance", upward_importance,
