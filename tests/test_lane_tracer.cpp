@@ -617,6 +617,17 @@ TEST_CASE("LaneTracer in float lanes is bit-identical for 1 and 2 threads", "[th
 }
 
 namespace {
+/// The irradiances of run `b` against those of run `a` (PhotonTracer's, or the same tracer
+/// without a variance reduction) at every detector, within their combined standard errors.
+void check_irradiances_agree(const TransportResult<CompactRecord>& a, const TransportResult<CompactRecord>& b,
+                             const std::vector<double>& depths, const std::string& what) {
+    for (std::size_t i = 0; i < depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            INFO("depth " << depths[i] << ", quantity " << k);
+            testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance, against " + what);
+        }
+}
+
 /// Stored flux per map photon, per batch: each record carries Phi / I(z) at its stored depth
 /// (record_importance, transport/record_flux.hpp), so that with depth importance the sum is
 /// the events per photon without it.
@@ -649,12 +660,8 @@ void check_depth_importance_agrees(const Phase& phase, AbsorptionMode mode) {
     const auto medium = HomogeneousWater<Phase>::from_albedo(1.0, 0.8, phase);
     const ImportanceLevels levels(s.importance, medium);
     REQUIRE(levels.level(8.0) == 3);
-    for (std::size_t i = 0; i < s.depths.size(); ++i)
-        for (int k = 0; k < 4; ++k) {
-            INFO("depth " << s.depths[i] << ", quantity " << k);
-            testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance, against PhotonTracer");
-            testing::check_agree(c.irradiance[i][k], b.irradiance[i][k], "irradiance, against no importance");
-        }
+    check_irradiances_agree(a, b, s.depths, "PhotonTracer");
+    check_irradiances_agree(c, b, s.depths, "no importance");
     testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
     testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
     testing::check_agree(events_per_photon(c), stored_flux_per_photon(b, levels), "stored flux per photon");
@@ -718,12 +725,8 @@ void check_backscatter_bias_agrees(bool with_importance) {
     plain.backscatter_bias = 0.0;
     const auto c = trace<Tracer>(petzold, plain, bottom);
     INFO("depth importance " << with_importance);
-    for (std::size_t i = 0; i < s.depths.size(); ++i)
-        for (int k = 0; k < 4; ++k) {
-            INFO("depth " << s.depths[i] << ", quantity " << k);
-            testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "irradiance, against PhotonTracer");
-            testing::check_agree(c.irradiance[i][k], b.irradiance[i][k], "irradiance, against no bias");
-        }
+    check_irradiances_agree(a, b, s.depths, "PhotonTracer");
+    check_irradiances_agree(c, b, s.depths, "no bias");
     testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
     testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon, against PhotonTracer");
     testing::check_agree(events_per_photon(c), events_per_photon(b), "stored events per photon, against no bias");
