@@ -74,6 +74,7 @@ struct ProblemArgs {
     std::string absorption = "continuous";
     double radius = 0.05, omega = 0.005;
     std::optional<double> importance_cosine;  ///< None: slab's auto (PlaneParallelConfig::auto_importance)
+    double backscatter_bias = 0.0;
 
     [[nodiscard]] secchi::PlaneParallelConfig config(const WaterChoice& water) const {
         water.check();
@@ -102,6 +103,7 @@ struct ProblemArgs {
         cfg.auto_importance = !importance_cosine;
         if (importance_cosine && *importance_cosine != 0.0)
             t.importance = {*importance_cosine, t.deepest_detector()};
+        t.backscatter_bias = backscatter_bias;
         return cfg;
     }
 };
@@ -312,11 +314,11 @@ auto problem_function(F f) {
                std::vector<double> depths, std::uint64_t photons, std::optional<std::uint64_t> map_photons,
                std::optional<double> map_depth, std::uint64_t seed, unsigned threads, unsigned batches,
                std::string absorption, double radius, double omega, std::optional<double> importance_cosine,
-               Extra... extra) {
+               double backscatter_bias, Extra... extra) {
         return f(WaterChoice{std::move(phase), albedo, attenuation, water},
                  ProblemArgs{sun_zenith, sky, water_index, wind, bottom_depth, map_depth, bottom_albedo,
                              std::move(depths), photons, map_photons, seed, threads, batches, std::move(absorption),
-                             radius, omega, importance_cosine},
+                             radius, omega, importance_cosine, backscatter_bias},
                  std::move(extra)...);
     };
 }
@@ -350,6 +352,10 @@ Monte Carlo:
   importance_cosine=None  depth importance's mu_i (0: off); None: slab's auto, mu_i = 1
                        where the water absorbs an optical depth of ln 2 or more down to the
                        deepest of `depths` (Result.depth_importance says what was used)
+  backscatter_bias=0.0 a share of the scattering angles drawn from the phase function's
+                       backward part, the weights corrected (the upwelling irradiances at
+                       depth; Henyey-Greenstein and tables such as petzold; not with
+                       absorption="analog")
 Invalid values raise InputError (a ValueError) naming the parameter.)");
     return s;
 }
@@ -448,7 +454,8 @@ PYBIND11_MODULE(secchi, m) {
                           py::arg("photons") = 1'000'000, py::arg("map_photons") = py::none(),
                           py::arg("map_depth") = py::none(), py::arg("seed") = 1, py::arg("threads") = 1,
                           py::arg("batches") = 32, py::arg("absorption") = "continuous", py::arg("radius") = 0.05,
-                          py::arg("omega") = 0.005, py::arg("importance_cosine") = py::none(), extra...};
+                          py::arg("omega") = 0.005, py::arg("importance_cosine") = py::none(),
+                          py::arg("backscatter_bias") = 0.0, extra...};
     };
     const auto define = [&m](const char* name, auto function, const std::string& doc, auto arguments) {
         std::apply([&](auto&&... args) { m.def(name, function, args..., doc.c_str()); }, arguments);

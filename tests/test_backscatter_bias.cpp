@@ -9,6 +9,7 @@
 #include "weighted_angles.hpp"
 
 #include "secchi/core/rng.hpp"
+#include "secchi/optics/phase/any_phase.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/petzold.hpp"
@@ -71,6 +72,14 @@ TEST_CASE("backward uniforms: the inverse CDF scatters backward exactly there") 
         CHECK(hg.cos_psi(hi - 1e-6) < 0.0);
         CHECK(hg.cos_psi(hi + 1e-6) > 0.0);
     }
+}
+
+TEST_CASE("backward uniforms through AnyPhaseFunction: the held function's, or refused by its name") {
+    const TabulatedPhase petzold = petzold_m93();
+    CHECK(AnyPhaseFunction{petzold}.backward_uniforms() == petzold.backward_uniforms());
+    CHECK(AnyPhaseFunction{HenyeyGreensteinPhase(0.8)}.backward_uniforms() == HenyeyGreensteinPhase(0.8).backward_uniforms());
+    CHECK_THROWS_WITH(AnyPhaseFunction{IsotropicPhase{}}.backward_uniforms(),
+                      Catch::Contains("phase") && Catch::Contains("isotropic") && Catch::Contains("backward uniforms"));
 }
 
 TEST_CASE("backscatter bias: the weighted angles follow the phase function") {

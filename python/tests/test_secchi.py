@@ -40,6 +40,8 @@ SLAB_CASES = [
     (dict(phase="hg:0.8", albedo=0.7, sun_zenith=50, bottom_depth=4, bottom_albedo=0.3, store="voi-grid", wind=5),
      ["--phase", "hg:0.8", "--albedo", "0.7", "--sun-zenith", "50", "--bottom-depth", "4", "--bottom-albedo", "0.3",
       "--store", "voi-grid", "--wind", "5"]),
+    (dict(phase="petzold", albedo=0.2, sun_zenith=30, backscatter_bias=0.2),
+     ["--phase", "petzold", "--albedo", "0.2", "--sun-zenith", "30", "--backscatter-bias", "0.2"]),
 ]
 
 
@@ -161,6 +163,9 @@ def test_radiance_averages_to_the_solvers_lu(bottom_map):
     (dict(bottom_depth=-1.0), "bottom depth"),
     (dict(sun_zenith=95), "zenith"),
     (dict(radius=0.8), "radius"),
+    (dict(backscatter_bias=1.0), "backscatter bias"),
+    (dict(backscatter_bias=0.2, phase="isotropic"), "phase"),
+    (dict(backscatter_bias=0.2, absorption="analog"), "backscatter bias"),
 ])
 def test_invalid_input_raises_value_error_naming_the_parameter(keywords, parameter):
     with pytest.raises(ValueError, match=re.escape(parameter)) as e:

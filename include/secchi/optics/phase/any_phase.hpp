@@ -3,7 +3,9 @@
 // PhaseFunction itself (one std::visit per call: for configuration, tests and tools; the
 // photon loop instead visits once and runs on the concrete type, see solver/phase_choice.hpp).
 #include "secchi/core/config.hpp"
+#include "secchi/core/error.hpp"
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -45,6 +47,16 @@ struct AnyPhaseFunction {
     }
     std::string name() const {
         return std::visit([](const auto& f) { return std::string(f.name()); }, p);
+    }
+    /// The held function's uniforms of its inverse CDF that scatter backward, for a backscatter
+    /// bias (transport/importance.hpp); refused, by the phase's name, for a type that names none.
+    std::pair<double, double> backward_uniforms() const {
+        return std::visit(
+            [&](const auto& f) -> std::pair<double, double> {
+                if constexpr (requires { f.backward_uniforms(); }) return f.backward_uniforms();
+                else reject("phase", name(), "names no backward uniforms for a backscatter bias (Henyey-Greenstein and tables do)");
+            },
+            p);
     }
 };
 
