@@ -111,7 +111,8 @@ template <class Store>
 std::vector<Found> located(const Store& s, const std::vector<Hit>& hits) {
     std::vector<Found> out;
     for (const Hit& h : hits) {
-        const vec3 p = s.records().at(h.index).position();
+        REQUIRE(h.index < s.size());
+        const vec3 p = s.records()[h.index].position();
         out.push_back({p.x, p.y, p.z, h.t, h.distance2, h.index});
     }
     std::sort(out.begin(), out.end(), [](const Found& a, const Found& b) { return a.key() < b.key(); });
@@ -163,10 +164,10 @@ std::vector<Found> run_along(const Store& s, const Query& q) {
 }
 
 /// Sorted positions (and directions) of the records: stores must hold a permutation of the input.
-template <class Record>
-std::vector<std::tuple<double, double, double, double, double, double>> contents(const std::vector<Record>& records) {
+template <class Records>
+std::vector<std::tuple<double, double, double, double, double, double>> contents(const Records& records) {
     std::vector<std::tuple<double, double, double, double, double, double>> out;
-    for (const Record& r : records) {
+    for (const auto& r : records) {
         const vec3 p = r.position(), d = r.direction();
         out.emplace_back(p.x, p.y, p.z, d.x, d.y, d.z);
     }
@@ -273,7 +274,7 @@ TEMPLATE_TEST_CASE("empty and single-record stores", "[stores]", SECCHI_ALL_STOR
     using Record = typename TestType::record_type;
     const TestType empty(std::vector<Record>{});
     REQUIRE(empty.size() == 0);
-    REQUIRE(empty.records().empty());
+    REQUIRE(std::ranges::empty(empty.records()));
     for (const Query& q : make_queries(Layout::uniform, 20, 21)) {
         CountHits count;
         REQUIRE(empty.within(q.point, Radius(q.r), count));
@@ -404,7 +405,9 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     REQUIRE(kd.memory_bytes() == n * sizeof(CompactRecord));  // the split axes live in the records
     REQUIRE(sizeof(CompactRecord) == 16);
     REQUIRE(nano.memory_bytes() > n * sizeof(CompactRecord));
-    REQUIRE(octree.memory_bytes() > n * sizeof(CompactRecord));
+    // Packed (packed_records.hpp): 12 bytes per record, frames and nodes within the other 4.
+    REQUIRE(octree.memory_bytes() > n * 12);
+    REQUIRE(octree.memory_bytes() <= n * 16);
     // 4 bytes per cell, at most max_cells_per_record cells per record.
     REQUIRE(grid.memory_bytes() <= n * (sizeof(CompactRecord) + 4 * VoiGridStore<CompactRecord>::max_cells_per_record) + 4);
 }
@@ -718,5 +721,120 @@ TEST_CASE("k-d tree within reports in the recursive locate_photons order", "[sto
         for (const Hit& h : all.hits) got.push_back(h.index);
         locate_recursive(store, 0, q.point, q.r * q.r, want);
         REQUIRE(got == want);
+    }
+}
+
+// ---- The packed layout (map/packed_records.hpp): 21-bit coordinates within frames.
+
+TEST_CASE("CompactRecord positions lie on the 2^-22 m grid, within 2^-23 m of the point", "[stores][packed]") {
+    PhotonRng rng(120, 0);
+    for (int i = 0; i < 200000; ++i) {
+        const double c = (rng.bits() % 2 == 0 ? 1.0 : -1.0) * std::pow(10.0, -9.0 + 13.0 * rng.uniform());
+        const float g = CompactRecord::make(vec3(c, -c, 0.5 * c), vec3(0, 0, 1), 0, 0).x;
+        INFO("c " << c << " stored " << g);
+        REQUIRE(std::fmod(static_cast<double>(g), position_grid) == 0.0);
+        REQUIRE(!(g == 0.0f && std::signbit(g)));  // zeros are +0 (what the packed layout reads back)
+        if (std::abs(c) < 2.0) REQUIRE(std::abs(g - c) <= 0.5 * position_grid);
+        else REQUIRE(g == static_cast<float>(c));
+    }
+}
+
+TEST_CASE("packed records hold CompactRecords exactly, in frames of the smallest step", "[stores][packed]") {
+    // Random frames of 1-600 records made by CompactRecord::make: a random corner (magnitude
+    // 10^[-6, 4] m, either sign, or 0) and extent (10^-9 to 10^1.5 m) per axis. Frames that
+    // is_fine() accepts pack and read back bit for bit; a coarse frame is refused by name.
+    PhotonRng rng(121, 0);
+    std::vector<CompactRecord> records;
+    std::vector<std::uint32_t> begins;
+    std::size_t refused = 0;
+    for (int f = 0; f < 600; ++f) {
+        std::vector<CompactRecord> frame;
+        const std::uint32_t n = 1 + static_cast<std::uint32_t>(rng.bits() % 600);
+        std::array<double, 3> lo{}, extent{};
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = rng.bits() % 16 == 0 ? 0.0 : (rng.bits() % 2 == 0 ? 1.0 : -1.0) * std::pow(10.0, -6.0 + 10.0 * rng.uniform());
+            extent[k] = std::pow(10.0, -9.0 + 10.5 * rng.uniform());
+        }
+        for (std::uint32_t i = 0; i < n; ++i) {
+            vec3 p;
+            for (int k = 0; k < 3; ++k) p[k] = lo[k] + extent[k] * (rng.bits() % 8 == 0 ? 0.0 : rng.uniform());
+            frame.push_back(CompactRecord::make(p, random_unit(rng), static_cast<band_index>(rng.bits() % 7),
+                                                static_cast<std::uint8_t>(rng.bits() % 64)));
+        }
+        std::array<float, 3> flo{INFINITY, INFINITY, INFINITY}, fhi{-INFINITY, -INFINITY, -INFINITY};
+        for (const CompactRecord& r : frame) {
+            const std::array<float, 3> c{r.x, r.y, r.z};
+            for (int k = 0; k < 3; ++k) flo[k] = std::min(flo[k], c[k]), fhi[k] = std::max(fhi[k], c[k]);
+        }
+        if (!PackedRecords::is_fine(flo, fhi)) {
+            ++refused;
+            CHECK_THROWS_WITH(PackedRecords(frame, {0}), Catch::Contains("cannot be packed exactly"));
+            continue;
+        }
+        // The step: a power of two, the smallest that spans the box from a multiple of itself.
+        for (int k = 0; k < 3; ++k) {
+            const PackedRecords::Axis a = PackedRecords::axis_frame(flo[k], fhi[k]);
+            const double step = a.step, half = 0.5 * step;
+            REQUIRE(std::exp2(std::round(std::log2(step))) == step);
+            REQUIRE(std::floor(static_cast<double>(a.origin) / step) * step == a.origin);
+            if (half >= 0x1p-126) REQUIRE((static_cast<double>(fhi[k]) - std::floor(flo[k] / half) * half) / half > PackedRecords::max_code);
+        }
+        begins.push_back(static_cast<std::uint32_t>(records.size()));
+        records.insert(records.end(), frame.begin(), frame.end());
+    }
+    REQUIRE(refused > 20);
+    REQUIRE(begins.size() > 300);
+    const PackedRecords packed(records, begins);
+    REQUIRE(packed.size() == records.size());
+    REQUIRE(packed.memory_bytes() >= 12 * records.size());
+    std::size_t f = 0;
+    for (std::uint32_t i = 0; i < records.size(); ++i) {
+        while (f + 1 < begins.size() && begins[f + 1] <= i) ++f;
+        REQUIRE(packed.frame_of(i) == f);
+        REQUIRE(std::bit_cast<std::array<std::uint8_t, 16>>(packed[i]) == std::bit_cast<std::array<std::uint8_t, 16>>(records[i]));
+    }
+    // positions() reads runs across frames as operator[] does.
+    std::vector<CompactRecord> run(700);
+    for (int trial = 0; trial < 200; ++trial) {
+        const auto begin = static_cast<std::uint32_t>(rng.bits() % (records.size() - 700));
+        const auto count = static_cast<std::uint32_t>(rng.bits() % 700);
+        packed.positions(begin, begin + count, run.data());
+        for (std::uint32_t k = 0; k < count; ++k)
+            REQUIRE(std::tie(run[k].x, run[k].y, run[k].z) == std::tie(records[begin + k].x, records[begin + k].y, records[begin + k].z));
+    }
+    const auto view = packed.view();
+    REQUIRE(std::ranges::size(view) == records.size());
+    for (std::uint32_t i = 0; i < records.size(); i += 97)
+        REQUIRE(std::bit_cast<std::array<std::uint8_t, 16>>(view[i]) == std::bit_cast<std::array<std::uint8_t, 16>>(records[i]));
+    // A record off the grid (not made by make()) is refused by name, not rounded.
+    std::vector<CompactRecord> off{CompactRecord::make(vec3(0.25, 0.25, 0.25), vec3(0, 0, 1), 0, 0),
+                                   CompactRecord::make(vec3(0.75, 0.75, 0.75), vec3(0, 0, 1), 0, 0)};
+    off[1].x = std::nextafter(0.75f, 1.0f);  // 0.75 + 2^-24: finer than the grid
+    CHECK_THROWS_WITH(PackedRecords(off, {0}), Catch::Contains("photon record 1 coordinate x"));
+    off[1] = off[0];
+    off[1].z = -0.0f;  // would read back as +0
+    CHECK_THROWS_WITH(PackedRecords(off, {0}), Catch::Contains("photon record 1 coordinate z"));
+}
+
+TEST_CASE("the packed octree divides leaves too large for 21-bit coordinates, and agrees with brute force",
+          "[stores][packed][octree]") {
+    // 3000 records spread over 100 m on each axis, from 0: leaves of 512 records would span
+    // tens of metres, where 21 bits give steps of ~2^-15 m, coarser than the records' grid near
+    // the origin, so the packed octree divides them until each leaf's frame is exact.
+    PhotonRng rng(131, 0);
+    std::vector<CompactRecord> records;
+    for (int i = 0; i < 3000; ++i)
+        records.push_back(CompactRecord::make(vec3(100.0 * rng.uniform(), 100.0 * rng.uniform(), 100.0 * rng.uniform()),
+                                              random_unit(rng), 0, static_cast<std::uint8_t>(i % 8)));
+    const VoiOctreeStore<CompactRecord> packed(records);
+    const VoiOctreeStore<CompactRecord, RecordLayout::plain> plain(records);
+    REQUIRE(packed.node_count() > plain.node_count());
+    REQUIRE(contents(packed.records()) == contents(records));  // exactly the records given
+    const BruteForceStore<CompactRecord> brute(records);
+    for (int i = 0; i < 50; ++i) {
+        const vec3 p(100.0 * rng.uniform(), 100.0 * rng.uniform(), 100.0 * rng.uniform());
+        const Query q{p, Ray{p, random_unit(rng), 100.0 * rng.uniform()}, 20.0 * rng.uniform()};
+        REQUIRE(compare(run_within(packed, q), run_within(brute, q)) == "");
+        REQUIRE(compare(run_along(packed, q), run_along(brute, q)) == "");
     }
 }

@@ -345,6 +345,8 @@ public:
 
 private:
     using Record = typename PhotonMap<Store>::Record;
+    /// What the store's records() returns: a reference to its vector, or a range of values.
+    using StoreRecords = decltype(std::declval<const Store&>().records());
 
     /// Whether vertical rays take the coded path: records with a polar code, optics that
     /// tabulate their angular part.
@@ -418,14 +420,14 @@ private:
     /// against codes for 64 photons, then their values, then their sums: docs/design-notes.md).
     template <class Coded>
     struct CodedRuns {
-        const std::vector<Record>& records;
+        StoreRecords records;
         const Coded& coded;
         const Ray& ray;
         std::span<double> batch_sums;
         std::uint64_t touched = 0;
 
         void operator()(std::uint32_t index, double t, double weight) {
-            const Record& rec = records[index];
+            const auto& rec = records[index];
             batch_sums[rec.batch()] += weight * coded.in_scatter(rec.position().z, PolarCode<Record>::of(rec), ray, t);
             ++touched;
         }
@@ -433,15 +435,15 @@ private:
             constexpr std::uint32_t width = lanes::lane_width;
             std::uint32_t k = 0;
             for (; k + width <= n; k += width) {
-                const Record* rec[width];
-                std::uint8_t code[width];
+                std::uint8_t code[width], batch[width];
                 alignas(64) double value[width];
                 for (std::uint32_t l = 0; l < width; ++l) {
-                    rec[l] = &records[base + offset[k + l]];
-                    code[l] = PolarCode<Record>::of(*rec[l]);
+                    const auto& rec = records[base + offset[k + l]];
+                    code[l] = PolarCode<Record>::of(rec);
+                    batch[l] = rec.batch();
                 }
                 coded.in_scatter_lanes(code, t + k, value);
-                for (std::uint32_t l = 0; l < width; ++l) batch_sums[rec[l]->batch()] += weight * value[l];
+                for (std::uint32_t l = 0; l < width; ++l) batch_sums[batch[l]] += weight * value[l];
             }
             touched += k;
             for (; k < n; ++k) (*this)(base + offset[k], t[k], weight);  // counts its own

@@ -17,6 +17,7 @@
 // docs/design-notes.md). The octree's tuning: voi_octree.hpp.
 #include "secchi/core/config.hpp"
 #include "secchi/map/cylinder_scan.hpp"
+#include "secchi/map/packed_records.hpp"
 #include "secchi/map/store.hpp"
 #include <algorithm>
 #include <array>
@@ -37,11 +38,16 @@ concept FloatPositionRecord = requires(const R r) {
     requires std::same_as<decltype(r.z), float>;
 };
 
-/// The cylinder scan over ranges of `records` (a view for one query: it keeps a reference).
-template <PhotonRecord Record>
+/// The cylinder scan over ranges of `records` (a view for one query: it keeps a reference):
+/// a std::vector of records, or PackedRecords (packed_records.hpp), whose positions each chunk
+/// reads back into a small buffer of CompactRecords that the same kernels then scan.
+template <class Records>
 class CylinderRanges {
 public:
-    explicit CylinderRanges(const std::vector<Record>& records) : records_(records) {}
+    static constexpr bool packed = std::same_as<Records, PackedRecords>;
+    using Record = typename Records::value_type;
+
+    explicit CylinderRanges(const Records& records) : records_(records) {}
 
     /// Record ranges queued by a store's walk: scan with the cylinder test, or report whole.
     struct WorkList {
@@ -59,21 +65,23 @@ public:
     /// most Chunk::capacity records (to a ChunkCollector as one run of hits per chunk).
     template <Collector C>
     bool stream(const WorkList& work, const Ray& ray, double r2, C& collect) const {
-        Prefetcher ahead(work, records_.data());
+        Prefetcher ahead(work, stored_bytes());
         ahead.advance(prefetch_lead);
+        Buffer buffer{};  // packed: the chunk's positions read back (its other bytes stay zero)
+        static_assert(std::tuple_size_v<Buffer> >= (packed ? Chunk::capacity : 0));
         Hit hit{};
         for (std::size_t w = 0; w < work.size; ++w) {
             const auto& range = work.items[w];
             if (range.whole) {  // hinted whole (by chunks: 0.94-0.98 times the octree's rays/s)
                 ahead.advance(bytes(range.begin, range.end));
-                if (!report_all(ray, range.begin, range.end, collect)) return false;
+                if (!report_all(ray, range.begin, range.end, buffer, collect)) return false;
                 continue;
             }
             for (std::uint32_t begin = range.begin; begin < range.end; begin += Chunk::capacity) {
                 const std::uint32_t end = std::min<std::uint32_t>(range.end, begin + Chunk::capacity);
                 ahead.advance(bytes(begin, end));
                 Chunk chunk;
-                const std::uint32_t n = filter(begin, end, ray, r2, chunk);
+                const std::uint32_t n = filter(read(begin, end, buffer), end - begin, available(begin), ray, r2, chunk);
                 if constexpr (ChunkCollector<C>) {
                     if (!collect.hits(begin, chunk.accepted.data(), chunk.t.data(), chunk.distance2.data(), n)) return false;
                 } else {
@@ -93,19 +101,45 @@ public:
     static constexpr std::size_t prefetch_lead = 4096;
 
 private:
-    static std::size_t bytes(std::uint32_t begin, std::uint32_t end) { return std::size_t{end - begin} * sizeof(Record); }
+    /// What one record occupies where the scan streams it: the record, or its 64-bit position word.
+    static constexpr std::size_t stride = packed ? sizeof(std::uint64_t) : sizeof(Record);
+    static std::size_t bytes(std::uint32_t begin, std::uint32_t end) { return std::size_t{end - begin} * stride; }
+    [[nodiscard]] const std::byte* stored_bytes() const {
+        if constexpr (packed) return reinterpret_cast<const std::byte*>(records_.codes());
+        else return reinterpret_cast<const std::byte*>(records_.data());
+    }
+
+    /// Packed records' positions, a chunk at a time (unused for a vector of records).
+    using Buffer = std::conditional_t<packed, std::array<Record, 64>, std::array<Record, 0>>;
+    static_assert(!packed || std::tuple_size_v<Buffer> % 4 == 0, "measure() reads whole groups of 4");
+
+    /// Records [begin, end) (at most one chunk) as an array of records: in place, or read back into buffer.
+    const Record* read(std::uint32_t begin, std::uint32_t end, Buffer& buffer) const {
+        if constexpr (packed) {
+            records_.positions(begin, end, buffer.data());
+            return buffer.data();
+        } else {
+            (void)end, (void)buffer;
+            return records_.data() + begin;
+        }
+    }
+    /// How many records may be read from read(begin, ...)'s pointer (measure() rounds up to 4).
+    [[nodiscard]] std::uint32_t available(std::uint32_t begin) const {
+        if constexpr (packed) return static_cast<std::uint32_t>(std::tuple_size_v<Buffer>);
+        else return static_cast<std::uint32_t>(records_.size()) - begin;
+    }
 
     /// Hints the cache to fetch the queued ranges' records in scan order, a given number of
     /// bytes at a time: the scan calls advance(b) as it starts on b bytes, so the hints run
     /// prefetch_lead bytes ahead of it, through range ends into the next ranges.
     class Prefetcher {
     public:
-        Prefetcher(const WorkList& work, const Record* records) : work_(work), records_(records) {}
+        Prefetcher(const WorkList& work, const std::byte* stored) : work_(work), stored_(stored) {}
         void advance(std::size_t amount) {
 #if defined(__GNUC__)
             while (amount > 0 && item_ < work_.size) {
                 const auto& range = work_.items[item_];
-                const auto first = reinterpret_cast<std::uintptr_t>(records_ + range.begin);
+                const auto first = reinterpret_cast<std::uintptr_t>(stored_ + std::size_t{range.begin} * stride);
                 const std::size_t size = bytes(range.begin, range.end);
                 const std::size_t step = std::min(amount, size - done_);
                 // one hint per 64-byte cache line that bytes [done_, done_ + step) touch
@@ -123,7 +157,7 @@ private:
 
     private:
         const WorkList& work_;
-        const Record* records_;
+        const std::byte* stored_;
         std::size_t item_ = 0, done_ = 0;  ///< the next byte to hint: item_'s range, done_ bytes in
     };
 
@@ -150,11 +184,10 @@ private:
     /// floating-point ports: ~25 operations per record.) The loops run to a whole number of
     /// 4-record vectors where the records exist, so that no scalar remainder loop runs
     /// (leaves are 43 records on average); the extra slots are computed and ignored.
-    void measure(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
+    static void measure(const Record* records, std::uint32_t count, std::uint32_t available, const Ray& ray, double r2,
+                        Chunk& chunk) {
         using Coordinate = std::conditional_t<detail::FloatPositionRecord<Record>, float, double>;
-        const Record* const records = records_.data() + begin;
-        const auto available = static_cast<std::uint32_t>(records_.size()) - begin;
-        const std::uint32_t lanes = std::min(((end - begin) + 3) & ~3u, available);
+        const std::uint32_t lanes = std::min((count + 3) & ~3u, available);
         std::array<Coordinate, Chunk::capacity> xs, ys, zs;
         for (std::uint32_t k = 0; k < lanes; ++k) {
             if constexpr (detail::FloatPositionRecord<Record>) {
@@ -196,16 +229,16 @@ private:
 #if defined(__GNUC__)
     __attribute__((noinline))
 #endif
-    std::uint32_t filter(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
+    static std::uint32_t filter(const Record* records, std::uint32_t count, std::uint32_t available, const Ray& ray,
+                                double r2, Chunk& chunk) {
 #if SECCHI_HAS_CYLINDER_SCAN
         if constexpr (detail::PackedFloatRecord<Record>)
-            return detail::scan_cylinder(records_.data() + begin, end - begin, ray, r2, chunk.t.data(),
-                                         chunk.distance2.data(), chunk.accepted.data());
+            return detail::scan_cylinder(records, count, ray, r2, chunk.t.data(), chunk.distance2.data(), chunk.accepted.data());
 #endif
-        if (end - begin < Chunk::vector_minimum) return filter_scalar(begin, end, ray, r2, chunk);
-        measure(begin, end, ray, r2, chunk);
+        if (count < Chunk::vector_minimum) return filter_scalar(records, count, ray, r2, chunk);
+        measure(records, count, available, ray, r2, chunk);
         std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < end - begin; ++k) {  // packed in place: n <= k
+        for (std::uint32_t k = 0; k < count; ++k) {  // packed in place: n <= k
             chunk.accepted[n] = k;
             chunk.t[n] = chunk.t[k];
             chunk.distance2[n] = chunk.distance2[k];
@@ -217,12 +250,11 @@ private:
 
     /// filter() for a short chunk: in_cylinder's arithmetic one record at a time (glm, scalar
     /// double), with the same branch-free compaction.
-    std::uint32_t filter_scalar(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
-        const Record* const records = records_.data() + begin;
+    static std::uint32_t filter_scalar(const Record* records, std::uint32_t count, const Ray& ray, double r2, Chunk& chunk) {
         const vec3 o = ray.origin, u = ray.direction;
         const double t_max = ray.t_max;
         std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < end - begin; ++k) {
+        for (std::uint32_t k = 0; k < count; ++k) {
             const vec3 d = records[k].position() - o;
             const double t = glm::dot(d, u);
             const vec3 perp = d - t * u;
@@ -243,21 +275,26 @@ private:
 #if defined(__GNUC__)
     __attribute__((noinline))
 #endif
-    bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, C& collect) const {
-        const Record* const records = records_.data();
+    bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, Buffer& buffer, C& collect) const {
         Hit hit{};
-        for (std::uint32_t i = begin; i < end; ++i) {
-            const vec3 d = records[i].position() - ray.origin;
-            hit.t = glm::dot(d, ray.direction);
-            const vec3 perp = d - hit.t * ray.direction;
-            hit.distance2 = glm::dot(perp, perp);
-            hit.index = i;
-            if (!collect(hit)) return false;
+        for (std::uint32_t first = begin; first < end; first += read_size) {
+            const std::uint32_t last = end - first > read_size ? first + read_size : end;
+            const Record* const records = read(first, last, buffer);
+            for (std::uint32_t k = 0; k < last - first; ++k) {
+                const vec3 d = records[k].position() - ray.origin;
+                hit.t = glm::dot(d, ray.direction);
+                const vec3 perp = d - hit.t * ray.direction;
+                hit.distance2 = glm::dot(perp, perp);
+                hit.index = first + k;
+                if (!collect(hit)) return false;
+            }
         }
         return true;
     }
+    /// Records report_all() reads at a time: a buffer's worth (packed), else all at once.
+    static constexpr std::uint32_t read_size = packed ? std::uint32_t{64} : ~std::uint32_t{0} / 2;
 
-    const std::vector<Record>& records_;
+    const Records& records_;
 };
 
 }  // namespace secchi::detail

@@ -2,7 +2,7 @@
 // Photon records: what the first pass stores at each scattering event (manual 3.3.2).
 // Flux is implicit: every stored photon carries Phi_source / photons_shot (manual 3.3.2.4).
 // Two policies behind one concept:
-//  - CompactRecord: 16 bytes. Position as float3 (3.3.2.1), direction as two bytes (theta,
+//  - CompactRecord: 16 bytes. Position as float3 (3.3.2.1) on a grid of 2^-22 m (below), direction as two bytes (theta,
 //    phi, Jensen's encoding, 3.3.2.2), band index one byte (3.3.2.5), and one byte holding the
 //    batch index (the independent batch the photon belongs to, for standard errors; up to 64)
 //    and two bits a store may use (the k-d tree keeps its split axis there, as Jensen does).
@@ -42,7 +42,20 @@ constexpr unsigned record_max_batches() {
     else return 256;
 }
 
+/// CompactRecord's position grid, m: every coordinate it stores is a multiple of 2^-22 m
+/// (0.24 um). Floats are that coarse from 2 m out; nearer the origin, where they are finer, a
+/// coordinate is rounded to the nearest multiple (within 2^-23 m, 0.12 um). A store may then
+/// pack positions as integers on a coarser grid without losing a bit (map/packed_records.hpp).
+inline constexpr double position_grid = 0x1p-22;
+
 namespace detail {
+/// A coordinate as CompactRecord stores it: the nearest multiple of position_grid for |c| < 2
+/// (exact in float: fewer than 2^23 steps; a zero is +0, as the packed layout reads it back),
+/// else the nearest float (itself a multiple).
+inline float grid_coordinate(double c) {
+    return std::abs(c) < 2.0 ? static_cast<float>(std::nearbyint(c * 0x1p22) * position_grid + 0.0) : static_cast<float>(c);
+}
+
 /// Decoding tables for the two-byte direction: theta in [0, pi], phi in [0, 2 pi).
 struct DirectionTables {
     std::array<double, 256> cos_theta{}, sin_theta{}, cos_phi{}, sin_phi{};
@@ -133,12 +146,13 @@ struct CompactRecord {
 
     static constexpr unsigned max_batches = 64;
 
+    /// Coordinates: detail::grid_coordinate (multiples of position_grid).
     /// theta = floor(acos(dz) 256/pi) (at most 255), phi = lround(atan2(dy, dx) 256/(2 pi)) mod
     /// 256, computed without acos and atan2 (detail::encode_theta, encode_phi): the bytes
     /// equal those of the formula, except where the angle lies within rounding (~1e-14 rad)
     /// of a bin boundary, where either side is as good.
     static CompactRecord make(const vec3& p, const vec3& d, band_index b, std::uint8_t batch) {
-        return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z),
+        return {detail::grid_coordinate(p.x), detail::grid_coordinate(p.y), detail::grid_coordinate(p.z),
                 static_cast<std::uint8_t>(detail::encode_theta(d.z)), static_cast<std::uint8_t>(detail::encode_phi(d.x, d.y)),
                 b, batch};
     }

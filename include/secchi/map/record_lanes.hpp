@@ -118,11 +118,20 @@ SECCHI_KERNEL Real encode_phi(const Real& dx, const Real& dy) {
 
 template <>
 struct LaneRecords<CompactRecord> {
+    /// detail::grid_coordinate in lanes: the nearest multiple of position_grid for |c| < 2 (in
+    /// float lanes c 2^22 and its rounding are exact, as in double), else the nearest float.
+    template <class Floats, class Real>
+    static Floats grid_coordinates(const Real& c) {
+        using T = typename Real::value_type;
+        const Real on_grid = lanes::stdx::nearbyint(c * Real(T(0x1p22))) * Real(T(position_grid)) + Real(T(0));  // -0 to +0
+        return lanes::stdx::static_simd_cast<Floats>(select(lanes::stdx::abs(c) < Real(T(2)), on_grid, c));
+    }
+
     /// As the general make_kept. The last four bytes of a record (theta, phi, band, batch) are
     /// one 32-bit word made in the vectors; with AVX2 the four words of four lanes (x, y, z as
     /// floats, and that word) are transposed into four records in registers, instead of being
     /// put together lane by lane (about 65 instructions per four records: valgrind). Positions
-    /// in double lanes are rounded to float as static_cast does.
+    /// are rounded as CompactRecord::make rounds them (detail::grid_coordinate), lane by lane.
     template <class Real>
     SECCHI_KERNEL static std::size_t make_kept(const Vec3Of<Real>& p, const Vec3Of<Real>& d, band_index band,
                                                const std::uint8_t* batch, unsigned keep, CompactRecord* out) {
@@ -138,9 +147,9 @@ struct LaneRecords<CompactRecord> {
         alignas(64) std::int32_t word[width];
         alignas(64) float x[width], y[width], z[width];
         code.copy_to(word, lanes::stdx::vector_aligned);
-        lanes::stdx::static_simd_cast<Floats>(p.x).copy_to(x, lanes::stdx::element_aligned);
-        lanes::stdx::static_simd_cast<Floats>(p.y).copy_to(y, lanes::stdx::element_aligned);
-        lanes::stdx::static_simd_cast<Floats>(p.z).copy_to(z, lanes::stdx::element_aligned);
+        grid_coordinates<Floats>(p.x).copy_to(x, lanes::stdx::element_aligned);
+        grid_coordinates<Floats>(p.y).copy_to(y, lanes::stdx::element_aligned);
+        grid_coordinates<Floats>(p.z).copy_to(z, lanes::stdx::element_aligned);
         std::size_t n = 0;
 #if defined(__AVX2__)  // (lanes.hpp includes the intrinsics with AVX2)
         static_assert(width % 4 == 0);

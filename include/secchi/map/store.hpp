@@ -22,6 +22,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <ranges>
 #include <vector>
 
 namespace secchi::SECCHI_ISA {
@@ -89,7 +90,10 @@ concept PhotonStore = requires(const S s, vec3 p, Ray ray, Radius r, CollectAll 
     requires PhotonRecord<typename S::record_type>;
     requires std::constructible_from<S, std::vector<typename S::record_type>>;
     { s.size() } -> std::convertible_to<std::size_t>;
-    { s.records() } -> std::convertible_to<const std::vector<typename S::record_type>&>;
+    // the records in the store's order, Hit::index into them: a std::vector, or a random-access
+    // range of values (a store that packs them, e.g. the VOI octree: packed_records.hpp)
+    requires std::ranges::random_access_range<decltype(s.records())>;
+    requires std::convertible_to<std::ranges::range_reference_t<decltype(s.records())>, typename S::record_type>;
     { s.within(p, r, c) } -> std::convertible_to<bool>;
     { s.along(ray, r, c) } -> std::convertible_to<bool>;
     { s.memory_bytes() } -> std::convertible_to<std::size_t>;

@@ -103,8 +103,8 @@ public:
     bool along(const Ray& ray_in, Radius r, C& collect) const {
         const Ray ray = ray_in;  // a local copy: the collector's writes cannot alias it
         const double r2 = r.squared();
-        const detail::CylinderRanges<Record> ranges(records_);
-        typename detail::CylinderRanges<Record>::WorkList work;
+        const detail::CylinderRanges<std::vector<Record>> ranges(records_);
+        typename detail::CylinderRanges<std::vector<Record>>::WorkList work;
         bool complete = true;
         for_each_column_range(ray, detail::pruning_pad(ray, r2), [&](std::uint32_t begin, std::uint32_t end) {
             work.items[work.size++] = {begin, end, false};

@@ -16,6 +16,14 @@
 // child_count), no pointers. Each node stores the tight bounding box of its records in float,
 // rounded outward so it still contains every double position.
 //
+// Record layout (the Layout parameter, packed_records.hpp): CompactRecords are packed by
+// default, each leaf a frame of 21-bit coordinates: 12 bytes per record, 12.3 bytes per photon
+// with the nodes and frames on 1e6 uniform records (16.19 plain; BENCHMARKS.md). Packed, a node
+// is also divided while its box is too large for its frame to read every coordinate back
+// within 2^-21 m (PackedRecords::is_fine), and records() is a range of CompactRecord values
+// with the positions as read back, which every query reports. RecordLayout::plain keeps a
+// std::vector of the records as given; FullRecords are always plain.
+//
 // Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
 // radius (plus a rounding margin, search_support.hpp's detail::pruning_pad), applied at query time,
 // so one tree serves any radius. (Padding at build time would fix the radius in the tree and
@@ -61,10 +69,13 @@
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
 #include "secchi/core/config.hpp"
+#include "secchi/map/packed_records.hpp"
 #include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -91,8 +102,12 @@ inline float float_above(double v) {
 
 }  // namespace detail
 
-template <PhotonRecord Record>
+template <PhotonRecord Record,
+          RecordLayout Layout = std::same_as<Record, CompactRecord> ? RecordLayout::packed : RecordLayout::plain>
 class VoiOctreeStore {
+    static constexpr bool is_packed = Layout == RecordLayout::packed;
+    static_assert(!is_packed || std::same_as<Record, CompactRecord>, "only CompactRecords pack (packed_records.hpp)");
+
 public:
     using record_type = Record;
     static constexpr std::size_t default_leaf_size = 512;
@@ -105,11 +120,15 @@ public:
         build();
     }
 
-    [[nodiscard]] std::size_t size() const { return records_.size(); }
+    [[nodiscard]] std::size_t size() const { return stored().size(); }
     /// The records in octree order (each node's records contiguous); Hit::index refers to it.
-    [[nodiscard]] const std::vector<Record>& records() const { return records_; }
+    /// Packed: a range of CompactRecord values, their positions as read back (packed_records.hpp).
+    [[nodiscard]] decltype(auto) records() const {
+        if constexpr (is_packed) return packed_.view();
+        else return (records_);
+    }
     [[nodiscard]] std::size_t memory_bytes() const {
-        return records_.capacity() * sizeof(Record) + nodes_.capacity() * sizeof(Node);
+        return records_.capacity() * sizeof(Record) + packed_.memory_bytes() + nodes_.capacity() * sizeof(Node);
     }
     [[nodiscard]] std::size_t node_count() const { return nodes_.size(); }
     [[nodiscard]] std::size_t leaf_size() const { return leaf_size_; }
@@ -151,7 +170,7 @@ public:
             if (detail::box_distance2(p, lo, hi) > prune2) continue;
             if (detail::box_inside_sphere(p, r2, lo, hi)) {  // bulk accept: the same hits, in the same order
                 for (std::uint32_t i = node.begin; i < node.end; ++i) {
-                    const vec3 d = records_[i].position() - p;
+                    const vec3 d = position(i) - p;
                     if (!collect(Hit{i, 0.0, glm::dot(d, d)})) return false;
                 }
                 continue;
@@ -161,7 +180,7 @@ public:
                 continue;
             }
             for (std::uint32_t i = node.begin; i < node.end; ++i) {
-                const vec3 d = records_[i].position() - p;
+                const vec3 d = position(i) - p;
                 const double d2 = glm::dot(d, d);
                 if (d2 <= r2 && !collect(Hit{i, 0.0, d2})) return false;
             }
@@ -190,8 +209,8 @@ private:
         // stream() then goes through the list, prefetching the records a few KiB ahead of
         // the scan. Scanning streams ~5,000 records per ray from memory and is limited by it
         // (docs/design-notes.md); the hits and their order are those of the one-phase walk.
-        const detail::CylinderRanges<Record> ranges(records_);
-        typename detail::CylinderRanges<Record>::WorkList work;
+        const detail::CylinderRanges<Storage> ranges(stored());
+        typename detail::CylinderRanges<Storage>::WorkList work;
         Stack stack;
         if (!nodes_.empty()) stack.push(0);
         while (!stack.empty()) {
@@ -213,6 +232,14 @@ private:
         }
         return ranges.stream(work, ray, r2, collect);
     }
+
+    /// Where the records live after the build: records_, or packed_ (then records_ is empty).
+    using Storage = std::conditional_t<is_packed, PackedRecords, std::vector<Record>>;
+    [[nodiscard]] const Storage& stored() const {
+        if constexpr (is_packed) return packed_;
+        else return records_;
+    }
+    [[nodiscard]] vec3 position(std::uint32_t i) const { return stored()[i].position(); }
 
     struct Node {
         std::array<float, 3> lo, hi;    ///< tight box of the node's records, rounded outward
@@ -278,12 +305,27 @@ private:
             if (should_divide(nodes_[i], cells[i])) divide(i, cells, scratch);
         }
         nodes_.shrink_to_fit();
+        if constexpr (is_packed) pack();
     }
 
+    /// Divides nodes of more than leaf_size records and, packed, nodes whose box is too large
+    /// for the leaf's frame to keep every coordinate within PackedRecords::default_max_step / 2.
     bool should_divide(const Node& node, const Cell& cell) const {
         // lo == hi only if every position is the same float value (the box is rounded outward).
         const bool single_position = node.lo == node.hi;
-        return node.end - node.begin > leaf_size_ && cell.depth < max_depth && !single_position;
+        bool crowded = node.end - node.begin > leaf_size_;
+        if constexpr (is_packed) crowded = crowded || !PackedRecords::is_fine(node.lo, node.hi);
+        return crowded && cell.depth < max_depth && !single_position;
+    }
+
+    /// Packs the records, one frame per leaf (leaves are disjoint runs covering every record).
+    void pack() {
+        std::vector<std::uint32_t> begins;
+        for (const Node& node : nodes_)
+            if (node.child_count == 0) begins.push_back(node.begin);
+        std::sort(begins.begin(), begins.end());
+        packed_ = PackedRecords(records_, begins);
+        records_ = std::vector<Record>();  // (not `= {}`: that keeps the capacity)
     }
 
     /// Divides node i into its non-empty octants: a stable counting sort of its records by
@@ -310,7 +352,8 @@ private:
         }
     }
 
-    std::vector<Record> records_;  ///< in octree order
+    std::vector<Record> records_;  ///< in octree order (packed: only while building)
+    PackedRecords packed_;         ///< packed: the records in octree order
     std::vector<Node> nodes_;      ///< nodes_[0] is the root; children contiguous
     std::size_t leaf_size_;
 };

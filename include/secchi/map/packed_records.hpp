@@ -1,0 +1,216 @@
+#pragma once
+// CompactRecords in 12 bytes: the VOI octree's record layout (voi_octree.hpp).
+//
+// A CompactRecord (record.hpp) spends 12 of its 16 bytes on three floats. A store that keeps
+// records in runs that share a small box (an octree leaf) can say the same in 8: each
+// coordinate as a 21-bit integer q within its run's frame, the three in one 64-bit word
+// (x in bits 0-20, y in 21-41, z in 42-62), and the four bytes of direction, band and batch in a
+// parallel array. Twelve bytes per record, so that the store with its index stays below 16
+// (issue: at most 16 bytes per stored photon, index included).
+//
+// Frames. A frame covers the records [begin, next frame's begin) and is made from their
+// box [lo, hi] (floats, the tight box). Per axis, step = 2^e is the smallest power of two with
+// hi - origin <= (2^21 - 1) step, where origin = floor(lo / step) step; a coordinate c is
+// stored as q = (c - origin) / step and read back as origin + q step, in float arithmetic,
+// which is exact. q is an integer, so the coordinate is read back bit for bit, wherever
+//  - step <= position_grid (2^-22 m, record.hpp): CompactRecord::make puts every coordinate on
+//    that grid (zeros as +0), so a frame up to (2^21 - 1) 2^-22 m, about 0.5 m, wide holds any record; or
+//  - |c| >= 2^23 step throughout the box: a float that large is a multiple of its own spacing
+//    2^(exponent - 23) >= step (frames far from the origin may be wider).
+// A store chooses frames for which one of the two holds on each axis (is_fine(); the octree
+// divides its leaves until they are), and the constructor checks every record: one that would
+// not be read back exactly (a CompactRecord not made by make(), off the grid) is refused by
+// name. So a packed store holds exactly the records it was given, and its queries report what
+// a store of plain CompactRecords reports (tests/test_stores.cpp).
+//
+// Reading record i finds its frame from a table of the first frame of each block of 256
+// records (frames are runs of consecutive records, so the frame is that one or a few after it).
+#include "secchi/core/config.hpp"
+#include "secchi/core/error.hpp"
+#include "secchi/map/record.hpp"
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <ranges>
+#include <string>
+#include <vector>
+
+namespace secchi::SECCHI_ISA {
+
+/// How a store keeps its records: a std::vector of them, or PackedRecords (CompactRecord only).
+enum class RecordLayout { plain, packed };
+
+class PackedRecords {
+public:
+    using value_type = CompactRecord;  ///< what operator[] returns
+    static constexpr int bits = 21;                             ///< per coordinate
+    static constexpr std::uint32_t max_code = (1u << bits) - 1;  ///< largest q
+
+    /// One axis of a frame: coordinate = origin + q step (step a power of two).
+    struct Axis {
+        float origin, step;
+        [[nodiscard]] float decode(std::uint32_t q) const { return origin + static_cast<float>(q) * step; }
+    };
+
+    /// The frame of one axis for coordinates in [lo, hi] (floats, lo <= hi), as described above.
+    static Axis axis_frame(float lo, float hi) {
+        const double span = static_cast<double>(hi) - static_cast<double>(lo);
+        int e = -126;  // the smallest normal float: every step is a float
+        if (span > 0.0) {
+            int exponent = 0;
+            std::frexp(span / max_code, &exponent);  // span / max_code in [2^(exponent - 1), 2^exponent)
+            e = std::max(e, exponent - 1);
+        }
+        for (;; ++e) {  // at most two rounds: origin lies at most one step below lo
+            const double step = std::ldexp(1.0, e);
+            const double origin = std::floor(static_cast<double>(lo) / step) * step;
+            if ((static_cast<double>(hi) - origin) / step <= max_code) return {static_cast<float>(origin), static_cast<float>(step)};
+        }
+    }
+
+    /// Whether every float in [lo, hi] is read back exactly: |c| >= 2^23 step throughout.
+    static bool lossless(const Axis& a, float lo, float hi) {
+        const double smallest = (lo <= 0.0f && hi >= 0.0f) ? 0.0 : std::min(std::abs(lo), std::abs(hi));
+        return smallest >= 0x1p23 * static_cast<double>(a.step);
+    }
+
+    /// Whether a frame over the box [lo, hi] reads back exactly every coordinate of a
+    /// CompactRecord made by make() in that box.
+    static bool is_fine(const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
+        for (int k = 0; k < 3; ++k) {
+            const Axis a = axis_frame(lo[k], hi[k]);
+            if (a.step > position_grid && !lossless(a, lo[k], hi[k])) return false;
+        }
+        return true;
+    }
+
+    PackedRecords() = default;
+
+    /// records (in the store's order) in frames that begin at frame_begins (increasing, the
+    /// first 0 when there are records; each frame runs to the next one's begin). Throws
+    /// input_error, naming the record and coordinate, if one would not be read back exactly.
+    PackedRecords(const std::vector<CompactRecord>& records, const std::vector<std::uint32_t>& frame_begins)
+        : size_(static_cast<std::uint32_t>(records.size())) {
+        require(records.empty() || (!frame_begins.empty() && frame_begins.front() == 0), "packed record frames",
+                frame_begins.size(), "must start at record 0");
+        codes_.resize(records.size());
+        attributes_.resize(records.size());
+        frames_.reserve(frame_begins.size() + 1);
+        for (std::size_t f = 0; f < frame_begins.size(); ++f) {
+            const std::uint32_t begin = frame_begins[f];
+            const std::uint32_t end = f + 1 < frame_begins.size() ? frame_begins[f + 1] : size_;
+            require(begin < end && end <= size_, "packed record frame", begin, "must be a non-empty run of the records");
+            frames_.push_back(make_frame(records, begin, end));
+            for (std::uint32_t i = begin; i < end; ++i) pack(records[i], frames_.back(), i);
+        }
+        frames_.push_back(Frame{{}, size_});  // sentinel: frame_of's search stops at it
+        block_frame_.resize((std::size_t{size_} + block - 1) / block);
+        std::uint32_t f = 0;
+        for (std::size_t b = 0; b < block_frame_.size(); ++b) {
+            while (frames_[f + 1].begin <= b * block) ++f;
+            block_frame_[b] = f;
+        }
+    }
+
+    [[nodiscard]] std::size_t size() const { return size_; }
+    [[nodiscard]] bool empty() const { return size_ == 0; }
+    [[nodiscard]] std::size_t memory_bytes() const {
+        return codes_.capacity() * sizeof(std::uint64_t) + attributes_.capacity() * sizeof(Attributes) +
+               frames_.capacity() * sizeof(Frame) + block_frame_.capacity() * sizeof(std::uint32_t);
+    }
+
+    /// Record i as a CompactRecord: its position read back, its other bytes as stored.
+    [[nodiscard]] CompactRecord operator[](std::uint32_t i) const {
+        const Attributes a = attributes_[i];
+        CompactRecord r{0.0f, 0.0f, 0.0f, a.theta, a.phi, a.band, a.batch};
+        read_position(codes_[i], frames_[frame_of(i)], r);
+        return r;
+    }
+
+    /// The records as a random-access range of CompactRecord values (what the store's records() gives).
+    [[nodiscard]] auto view() const {
+        return std::views::iota(std::uint32_t{0}, size_) |
+               std::views::transform([this](std::uint32_t i) { return (*this)[i]; });
+    }
+
+    /// The index of the frame holding record i (i < size()).
+    [[nodiscard]] std::uint32_t frame_of(std::uint32_t i) const {
+        std::uint32_t f = block_frame_[i / block];
+        while (frames_[f + 1].begin <= i) ++f;
+        return f;
+    }
+
+    /// Positions of records [begin, end) (one frame's, or several) written to out[0, end - begin)
+    /// as CompactRecords whose other bytes are left as they were: what the leaf scan reads.
+    void positions(std::uint32_t begin, std::uint32_t end, CompactRecord* out) const {
+        for (std::uint32_t f = frame_of(begin); begin < end; ++f) {
+            const std::uint32_t stop = std::min(end, frames_[f + 1].begin);
+            const Frame& frame = frames_[f];
+            for (std::uint32_t i = begin; i < stop; ++i, ++out) read_position(codes_[i], frame, *out);
+            begin = stop;
+        }
+    }
+
+    /// The 64-bit position words, in record order (the leaf scan prefetches them).
+    [[nodiscard]] const std::uint64_t* codes() const { return codes_.data(); }
+
+private:
+    static constexpr std::uint32_t block = 256;  ///< records per entry of block_frame_
+
+    struct Frame {
+        std::array<Axis, 3> axis;
+        std::uint32_t begin;  ///< first record
+    };
+    struct Attributes {
+        std::uint8_t theta, phi, band, batch;
+    };
+    static_assert(sizeof(Attributes) == 4);
+
+    static Frame make_frame(const std::vector<CompactRecord>& records, std::uint32_t begin, std::uint32_t end) {
+        std::array<float, 3> lo{records[begin].x, records[begin].y, records[begin].z}, hi = lo;
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const std::array<float, 3> p{records[i].x, records[i].y, records[i].z};
+            for (int k = 0; k < 3; ++k) {
+                require(std::isfinite(p[k]), "photon record coordinate", p[k], "must be finite");
+                lo[k] = std::min(lo[k], p[k]);
+                hi[k] = std::max(hi[k], p[k]);
+            }
+        }
+        return Frame{{axis_frame(lo[0], hi[0]), axis_frame(lo[1], hi[1]), axis_frame(lo[2], hi[2])}, begin};
+    }
+
+    /// q = (c - origin) / step, in [0, max_code] for c in the frame's box; input_error unless
+    /// it is an integer that reads c back exactly.
+    static std::uint64_t code(float c, const Axis& a, std::uint32_t record, const char* axis) {
+        const double q = std::nearbyint((static_cast<double>(c) - a.origin) / a.step);
+        if (!(q >= 0.0 && q <= max_code) || std::bit_cast<std::uint32_t>(a.decode(static_cast<std::uint32_t>(q))) != std::bit_cast<std::uint32_t>(c))
+            reject(std::string("photon record ") + std::to_string(record) + " coordinate " + axis, c,
+                   "cannot be packed exactly with its neighbours (step " + std::to_string(a.step) +
+                       " m): make CompactRecords with CompactRecord::make, whose coordinates lie on its 2^-22 m grid");
+        return static_cast<std::uint64_t>(q);
+    }
+
+    void pack(const CompactRecord& r, const Frame& frame, std::uint32_t i) {
+        codes_[i] = code(r.x, frame.axis[0], i, "x") | code(r.y, frame.axis[1], i, "y") << bits |
+                    code(r.z, frame.axis[2], i, "z") << (2 * bits);
+        attributes_[i] = {r.theta, r.phi, r.band_, r.batch_};
+    }
+
+    static void read_position(std::uint64_t q, const Frame& frame, CompactRecord& r) {
+        r.x = frame.axis[0].decode(static_cast<std::uint32_t>(q) & max_code);
+        r.y = frame.axis[1].decode(static_cast<std::uint32_t>(q >> bits) & max_code);
+        r.z = frame.axis[2].decode(static_cast<std::uint32_t>(q >> (2 * bits)) & max_code);
+    }
+
+    std::uint32_t size_ = 0;
+    std::vector<std::uint64_t> codes_;       ///< positions, 21 bits per axis
+    std::vector<Attributes> attributes_;     ///< theta, phi, band, batch (with the store's tag bits)
+    std::vector<Frame> frames_;              ///< in record order, then a sentinel at size_
+    std::vector<std::uint32_t> block_frame_; ///< the frame holding record b * block
+};
+
+static_assert(std::ranges::random_access_range<decltype(std::declval<const PackedRecords&>().view())>);
+
+}  // namespace secchi
