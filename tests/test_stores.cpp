@@ -218,10 +218,14 @@ std::vector<Hit> expected_nearest(const Store& s, const vec3& p, std::size_t k) 
 static_assert(PhotonStore<KdTreeStore<CompactRecord>> && PhotonStore<KdTreeStore<FullRecord>>);
 static_assert(PhotonStore<NanoflannStore<CompactRecord>> && PhotonStore<NanoflannStore<FullRecord>>);
 static_assert(PhotonStore<VoiOctreeStore<CompactRecord>> && PhotonStore<VoiOctreeStore<FullRecord>>);
+/// The octree with CompactRecords packed in 12 bytes (map/packed_records.hpp).
+using PackedOctree = VoiOctreeStore<CompactRecord, RecordLayout::packed>;
+static_assert(PhotonStore<PackedOctree>);
 
 #define SECCHI_ALL_STORES                                                                                          \
     KdTreeStore<CompactRecord>, KdTreeStore<FullRecord>, NanoflannStore<CompactRecord>, NanoflannStore<FullRecord>, \
-        VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, VoiGridStore<CompactRecord>, VoiGridStore<FullRecord>
+        VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,         \
+        VoiGridStore<FullRecord>
 
 TEMPLATE_TEST_CASE("within and along report exactly the brute-force records", "[stores]", SECCHI_ALL_STORES) {
     using Record = typename TestType::record_type;
@@ -397,23 +401,26 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     const KdTreeStore<CompactRecord> kd(records);
     const NanoflannStore<CompactRecord> nano(records);
     const VoiOctreeStore<CompactRecord> octree(records);
+    const PackedOctree packed(records);
     const VoiGridStore<CompactRecord> grid(records, Radius(0.02));
     WARN("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
                                        << ", VOI octree " << per_photon(octree.memory_bytes()) << " ("
-                                       << octree.node_count() << " nodes), VOI grid for r = 0.02 "
+                                       << octree.node_count() << " nodes), packed " << per_photon(packed.memory_bytes())
+                                       << ", VOI grid for r = 0.02 "
                                        << per_photon(grid.memory_bytes()));
     REQUIRE(kd.memory_bytes() == n * sizeof(CompactRecord));  // the split axes live in the records
     REQUIRE(sizeof(CompactRecord) == 16);
     REQUIRE(nano.memory_bytes() > n * sizeof(CompactRecord));
+    REQUIRE(octree.memory_bytes() > n * sizeof(CompactRecord));
     // Packed (packed_records.hpp): 12 bytes per record, frames and nodes within the other 4.
-    REQUIRE(octree.memory_bytes() > n * 12);
-    REQUIRE(octree.memory_bytes() <= n * 16);
+    REQUIRE(packed.memory_bytes() > n * 12);
+    REQUIRE(packed.memory_bytes() <= n * 16);
     // 4 bytes per cell, at most max_cells_per_record cells per record.
     REQUIRE(grid.memory_bytes() <= n * (sizeof(CompactRecord) + 4 * VoiGridStore<CompactRecord>::max_cells_per_record) + 4);
 }
 
 TEMPLATE_TEST_CASE("concurrent queries from 2 threads match sequential ones", "[stores][threads]",
-                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, VoiOctreeStore<CompactRecord>,
+                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, VoiOctreeStore<CompactRecord>, PackedOctree,
                    VoiGridStore<CompactRecord>) {
     const TestType store(make_records<CompactRecord>(Layout::clustered, 20000, 81));
     const auto queries = make_queries(Layout::clustered, 100, 82);
@@ -523,9 +530,12 @@ TEMPLATE_TEST_CASE("VOI octree along reports in_cylinder's t and distance2 exact
     // 5037 = 78 * 64 + 45 records: with leaf size 6000, one leaf whose last chunk (45
     // records, vectorised) ends at the last record, where the padding must stop short.
     const auto records = make_records<TestType>(Layout::uniform, 5037, 111);
-    for (const std::size_t leaf : {1u, 5u, 43u, 128u, 6000u})
+    for (const std::size_t leaf : {1u, 5u, 43u, 128u, 6000u}) {
         require_in_cylinder_values(VoiOctreeStore<TestType>(records, leaf), exact_value_queries(),
                                    "leaf " + std::to_string(leaf));
+        if constexpr (std::is_same_v<TestType, CompactRecord>)
+            require_in_cylinder_values(PackedOctree(records, leaf), exact_value_queries(), "packed, leaf " + std::to_string(leaf));
+    }
 }
 
 TEMPLATE_TEST_CASE("VOI grid along reports in_cylinder's t and distance2 exactly, in record order", "[stores][grid]",
@@ -556,7 +566,7 @@ struct RunCollector {
 static_assert(ChunkCollector<RunCollector> && !ChunkCollector<CollectAll>);
 
 TEMPLATE_TEST_CASE("the VOI stores pass runs of hits to a ChunkCollector: the same hits, in order", "[stores]",
-                   VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, VoiGridStore<CompactRecord>,
+                   VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,
                    VoiGridStore<FullRecord>) {
     const TestType store(make_records<typename TestType::record_type>(Layout::uniform, 20000, 68));
     std::size_t runs = 0, stopped = 0;
@@ -816,19 +826,20 @@ TEST_CASE("packed records hold CompactRecords exactly, in frames of the smallest
     CHECK_THROWS_WITH(PackedRecords(off, {0}), Catch::Contains("photon record 1 coordinate z"));
 }
 
-TEST_CASE("the packed octree divides leaves too large for 21-bit coordinates, and agrees with brute force",
+TEST_CASE("the packed octree splits leaves too large for one frame, and agrees with brute force",
           "[stores][packed][octree]") {
-    // 3000 records spread over 100 m on each axis, from 0: leaves of 512 records would span
-    // tens of metres, where 21 bits give steps of ~2^-15 m, coarser than the records' grid near
-    // the origin, so the packed octree divides them until each leaf's frame is exact.
+    // 3000 records spread over 100 m on each axis, from 0: leaves of 512 records span tens of
+    // metres, where 21 bits give steps of ~2^-15 m, coarser than the records' grid near the
+    // origin, so the packed octree splits their records into sub-octant frames (same nodes).
     PhotonRng rng(131, 0);
     std::vector<CompactRecord> records;
     for (int i = 0; i < 3000; ++i)
         records.push_back(CompactRecord::make(vec3(100.0 * rng.uniform(), 100.0 * rng.uniform(), 100.0 * rng.uniform()),
                                               random_unit(rng), 0, static_cast<std::uint8_t>(i % 8)));
-    const VoiOctreeStore<CompactRecord> packed(records);
-    const VoiOctreeStore<CompactRecord, RecordLayout::plain> plain(records);
-    REQUIRE(packed.node_count() > plain.node_count());
+    const PackedOctree packed(records);
+    const VoiOctreeStore<CompactRecord> plain(records);
+    REQUIRE(packed.node_count() == plain.node_count());
+    // (One frame per leaf would be refused: its records could not be read back exactly.)
     REQUIRE(contents(packed.records()) == contents(records));  // exactly the records given
     const BruteForceStore<CompactRecord> brute(records);
     for (int i = 0; i < 50; ++i) {

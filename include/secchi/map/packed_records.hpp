@@ -18,7 +18,7 @@
 //  - |c| >= 2^23 step throughout the box: a float that large is a multiple of its own spacing
 //    2^(exponent - 23) >= step (frames far from the origin may be wider).
 // A store chooses frames for which one of the two holds on each axis (is_fine(); the octree
-// divides its leaves until they are), and the constructor checks every record: one that would
+// splits a leaf's records into sub-octant runs until they are), and the constructor checks every record: one that would
 // not be read back exactly (a CompactRecord not made by make(), off the grid) is refused by
 // name. So a packed store holds exactly the records it was given, and its queries report what
 // a store of plain CompactRecords reports (tests/test_stores.cpp).
@@ -115,6 +115,7 @@ public:
     }
 
     [[nodiscard]] std::size_t size() const { return size_; }
+    [[nodiscard]] std::size_t frame_count() const { return frames_.size() - 1; }
     [[nodiscard]] bool empty() const { return size_ == 0; }
     [[nodiscard]] std::size_t memory_bytes() const {
         return codes_.capacity() * sizeof(std::uint64_t) + attributes_.capacity() * sizeof(Attributes) +

@@ -16,13 +16,12 @@
 // child_count), no pointers. Each node stores the tight bounding box of its records in float,
 // rounded outward so it still contains every double position.
 //
-// Record layout (the Layout parameter, packed_records.hpp): CompactRecords are packed by
-// default, each leaf a frame of 21-bit coordinates: 12 bytes per record, 12.3 bytes per photon
-// with the nodes and frames on 1e6 uniform records (16.19 plain; BENCHMARKS.md). Packed, a node
-// is also divided while its box is too large for its frame to read every coordinate back
-// within 2^-21 m (PackedRecords::is_fine), and records() is a range of CompactRecord values
-// with the positions as read back, which every query reports. RecordLayout::plain keeps a
-// std::vector of the records as given; FullRecords are always plain.
+// Record layout (the Layout parameter): RecordLayout::plain (the default) keeps a std::vector of
+// the records. RecordLayout::packed (CompactRecord only, packed_records.hpp) keeps them in 12
+// bytes, 21-bit coordinates within frames: a leaf's records, or where the leaf's box is too
+// large for one frame, its records sorted by sub-octant within the leaf's range (no further
+// nodes), one frame each. The records read back exactly; records() is then a range of
+// CompactRecord values. Bytes per photon and speed of the two: BENCHMARKS.md.
 //
 // Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
 // radius (plus a rounding margin, search_support.hpp's detail::pruning_pad), applied at query time,
@@ -102,8 +101,7 @@ inline float float_above(double v) {
 
 }  // namespace detail
 
-template <PhotonRecord Record,
-          RecordLayout Layout = std::same_as<Record, CompactRecord> ? RecordLayout::packed : RecordLayout::plain>
+template <PhotonRecord Record, RecordLayout Layout = RecordLayout::plain>
 class VoiOctreeStore {
     static constexpr bool is_packed = Layout == RecordLayout::packed;
     static_assert(!is_packed || std::same_as<Record, CompactRecord>, "only CompactRecords pack (packed_records.hpp)");
@@ -305,27 +303,42 @@ private:
             if (should_divide(nodes_[i], cells[i])) divide(i, cells, scratch);
         }
         nodes_.shrink_to_fit();
-        if constexpr (is_packed) pack();
+        if constexpr (is_packed) pack(cells, scratch);
     }
 
-    /// Divides nodes of more than leaf_size records and, packed, nodes whose box is too large
-    /// for the leaf's frame to keep every coordinate within PackedRecords::default_max_step / 2.
     bool should_divide(const Node& node, const Cell& cell) const {
         // lo == hi only if every position is the same float value (the box is rounded outward).
         const bool single_position = node.lo == node.hi;
-        bool crowded = node.end - node.begin > leaf_size_;
-        if constexpr (is_packed) crowded = crowded || !PackedRecords::is_fine(node.lo, node.hi);
-        return crowded && cell.depth < max_depth && !single_position;
+        return node.end - node.begin > leaf_size_ && cell.depth < max_depth && !single_position;
     }
 
-    /// Packs the records, one frame per leaf (leaves are disjoint runs covering every record).
-    void pack() {
-        std::vector<std::uint32_t> begins;
-        for (const Node& node : nodes_)
-            if (node.child_count == 0) begins.push_back(node.begin);
-        std::sort(begins.begin(), begins.end());
+    /// Packs the records in frames: each leaf's records, or where their box is too large for
+    /// one frame (PackedRecords::is_fine), the runs of its sub-octants (frames_of).
+    void pack(const std::vector<Cell>& cells, std::vector<Record>& scratch) {
+        std::vector<std::uint32_t> leaves, begins;
+        for (std::uint32_t i = 0; i < nodes_.size(); ++i)
+            if (nodes_[i].child_count == 0) leaves.push_back(i);
+        std::sort(leaves.begin(), leaves.end(), [&](std::uint32_t a, std::uint32_t b) { return nodes_[a].begin < nodes_[b].begin; });
+        for (const std::uint32_t i : leaves) frames_of(nodes_[i].begin, nodes_[i].end, cells[i], begins, scratch);
         packed_ = PackedRecords(records_, begins);
         records_ = std::vector<Record>();  // (not `= {}`: that keeps the capacity)
+    }
+
+    /// The frames of records [begin, end) of a leaf, appended to `begins`: one if their box is
+    /// fine, else their records sorted by octant of `cell` (as divide() sorts them, but
+    /// without nodes: the leaf keeps its range and its records stay in it) and each octant's
+    /// frames in turn. Halving the cell ends in fine boxes: at the latest where a cell is
+    /// narrower than the records' position grid, its records share their coordinates.
+    void frames_of(std::uint32_t begin, std::uint32_t end, const Cell& cell, std::vector<std::uint32_t>& begins,
+                   std::vector<Record>& scratch) {
+        const Node box = make_node(begin, end);
+        if (PackedRecords::is_fine(box.lo, box.hi) || box.lo == box.hi) {
+            begins.push_back(begin);
+            return;
+        }
+        const auto start = sort_by_octant(begin, end, cell.centre, scratch);
+        for (unsigned o = 0; o < 8; ++o)
+            if (start[o] != start[o + 1]) frames_of(begin + start[o], begin + start[o + 1], cell.child(o), begins, scratch);
     }
 
     /// Divides node i into its non-empty octants: a stable counting sort of its records by
@@ -333,16 +346,7 @@ private:
     void divide(std::size_t i, std::vector<Cell>& cells, std::vector<Record>& scratch) {
         const Node node = nodes_[i];
         const Cell cell = cells[i];
-        std::array<std::uint32_t, 9> start{};
-        for (std::uint32_t k = node.begin; k < node.end; ++k) ++start[octant(records_[k].position(), cell.centre) + 1];
-        for (unsigned o = 0; o < 8; ++o) start[o + 1] += start[o];
-        std::array<std::uint32_t, 8> cursor{};
-        std::copy(start.begin(), start.end() - 1, cursor.begin());
-        scratch.assign(node.end - node.begin, records_[node.begin]);
-        for (std::uint32_t k = node.begin; k < node.end; ++k)
-            scratch[cursor[octant(records_[k].position(), cell.centre)]++] = records_[k];
-        std::copy(scratch.begin(), scratch.end(), records_.begin() + node.begin);
-
+        const auto start = sort_by_octant(node.begin, node.end, cell.centre, scratch);
         nodes_[i].first_child = static_cast<std::uint32_t>(nodes_.size());
         for (unsigned o = 0; o < 8; ++o) {
             if (start[o] == start[o + 1]) continue;
@@ -350,6 +354,21 @@ private:
             cells.push_back(cell.child(o));
             ++nodes_[i].child_count;
         }
+    }
+
+    /// A stable counting sort of records_[begin, end) by octant of `centre`: octant o's records
+    /// are then [begin + start[o], begin + start[o + 1]).
+    std::array<std::uint32_t, 9> sort_by_octant(std::uint32_t begin, std::uint32_t end, const vec3& centre,
+                                                std::vector<Record>& scratch) {
+        std::array<std::uint32_t, 9> start{};
+        for (std::uint32_t k = begin; k < end; ++k) ++start[octant(records_[k].position(), centre) + 1];
+        for (unsigned o = 0; o < 8; ++o) start[o + 1] += start[o];
+        std::array<std::uint32_t, 8> cursor{};
+        std::copy(start.begin(), start.end() - 1, cursor.begin());
+        scratch.assign(end - begin, records_[begin]);
+        for (std::uint32_t k = begin; k < end; ++k) scratch[cursor[octant(records_[k].position(), centre)]++] = records_[k];
+        std::copy(scratch.begin(), scratch.end(), records_.begin() + begin);
+        return start;
     }
 
     std::vector<Record> records_;  ///< in octree order (packed: only while building)
