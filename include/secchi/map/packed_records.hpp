@@ -5,8 +5,7 @@
 // records in runs that share a small box (an octree leaf) can say the same in 8: each
 // coordinate as a 21-bit integer q within its run's frame, the three in one 64-bit word
 // (x in bits 0-20, y in 21-41, z in 42-62), and the four bytes of direction, band and batch in a
-// parallel array. Twelve bytes per record, so that the store with its index stays below 16
-// (issue: at most 16 bytes per stored photon, index included).
+// parallel array: twelve bytes per record, so that the store with its index stays below 16.
 //
 // Frames. A frame covers the records [begin, next frame's begin) and is made from their
 // box [lo, hi] (floats, the tight box). Per axis, step = 2^e is the smallest power of two with
@@ -32,7 +31,10 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <compare>
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <ranges>
 #include <string>
 #include <vector>
@@ -130,11 +132,50 @@ public:
         return r;
     }
 
-    /// The records as a random-access range of CompactRecord values (what the store's records() gives).
-    [[nodiscard]] auto view() const {
-        return std::views::iota(std::uint32_t{0}, size_) |
-               std::views::transform([this](std::uint32_t i) { return (*this)[i]; });
-    }
+    /// The records as a random-access range of CompactRecord values (what the store's
+    /// records() gives). Written out rather than std::views::iota | transform: clang 14 cannot
+    /// compile libstdc++ 12's iota_view.
+    class View {
+    public:
+        class iterator {
+        public:
+            using iterator_concept = std::random_access_iterator_tag;
+            using iterator_category = std::input_iterator_tag;  // its reference is a value
+            using value_type = CompactRecord;
+            using difference_type = std::ptrdiff_t;
+            iterator() = default;
+            iterator(const PackedRecords* records, difference_type i) : records_(records), i_(i) {}
+            CompactRecord operator*() const { return (*records_)[static_cast<std::uint32_t>(i_)]; }
+            CompactRecord operator[](difference_type n) const { return *(*this + n); }
+            iterator& operator++() { return ++i_, *this; }
+            iterator operator++(int) { return {records_, i_++}; }
+            iterator& operator--() { return --i_, *this; }
+            iterator operator--(int) { return {records_, i_--}; }
+            iterator& operator+=(difference_type n) { return i_ += n, *this; }
+            iterator& operator-=(difference_type n) { return i_ -= n, *this; }
+            friend iterator operator+(iterator it, difference_type n) { return it += n; }
+            friend iterator operator+(difference_type n, iterator it) { return it += n; }
+            friend iterator operator-(iterator it, difference_type n) { return it -= n; }
+            friend difference_type operator-(const iterator& a, const iterator& b) { return a.i_ - b.i_; }
+            friend bool operator==(const iterator& a, const iterator& b) { return a.i_ == b.i_; }
+            friend auto operator<=>(const iterator& a, const iterator& b) { return a.i_ <=> b.i_; }
+
+        private:
+            const PackedRecords* records_ = nullptr;
+            difference_type i_ = 0;
+        };
+
+        explicit View(const PackedRecords& records) : records_(&records) {}
+        [[nodiscard]] iterator begin() const { return {records_, 0}; }
+        [[nodiscard]] iterator end() const { return {records_, static_cast<std::ptrdiff_t>(records_->size())}; }
+        [[nodiscard]] std::size_t size() const { return records_->size(); }
+        [[nodiscard]] bool empty() const { return records_->empty(); }
+        CompactRecord operator[](std::size_t i) const { return (*records_)[static_cast<std::uint32_t>(i)]; }
+
+    private:
+        const PackedRecords* records_;
+    };
+    [[nodiscard]] View view() const { return View(*this); }
 
     /// The index of the frame holding record i (i < size()).
     [[nodiscard]] std::uint32_t frame_of(std::uint32_t i) const {
@@ -212,6 +253,7 @@ private:
     std::vector<std::uint32_t> block_frame_; ///< the frame holding record b * block
 };
 
-static_assert(std::ranges::random_access_range<decltype(std::declval<const PackedRecords&>().view())>);
+static_assert(std::random_access_iterator<PackedRecords::View::iterator>);
+static_assert(std::ranges::random_access_range<PackedRecords::View> && std::ranges::sized_range<PackedRecords::View>);
 
 }  // namespace secchi
