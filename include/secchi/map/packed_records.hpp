@@ -1,5 +1,5 @@
 #pragma once
-// CompactRecords in 12 bytes: the VOI octree's record layout (voi_octree.hpp).
+// CompactRecords in 12 bytes: the VOI octree's packed layout (RecordLayout::packed, voi_octree.hpp).
 //
 // A CompactRecord (record.hpp) spends 12 of its 16 bytes on three floats. A store that keeps
 // records in runs that share a small box (an octree leaf) can say the same in 8: each
@@ -10,17 +10,19 @@
 // Frames. A frame covers the records [begin, next frame's begin) and is made from their
 // box [lo, hi] (floats, the tight box). Per axis, step = 2^e is the smallest power of two with
 // hi - origin <= (2^21 - 1) step, where origin = floor(lo / step) step; a coordinate c is
-// stored as q = (c - origin) / step and read back as origin + q step, in float arithmetic,
-// which is exact. q is an integer, so the coordinate is read back bit for bit, wherever
+// stored as q = (c - origin) / step and read back as origin + q step in float arithmetic (exact:
+// the value is a float). q is an integer, and the coordinate read back bit for bit, wherever
 //  - step <= position_grid (2^-22 m, record.hpp): CompactRecord::make puts every coordinate on
-//    that grid (zeros as +0), so a frame up to (2^21 - 1) 2^-22 m, about 0.5 m, wide holds any record; or
+//    that grid (zeros as +0), so a frame up to (2^21 - 1) 2^-22 m (0.5 m) wide holds any
+//    record; or
 //  - |c| >= 2^23 step throughout the box: a float that large is a multiple of its own spacing
 //    2^(exponent - 23) >= step (frames far from the origin may be wider).
 // A store chooses frames for which one of the two holds on each axis (is_fine(); the octree
-// splits a leaf's records into sub-octant runs until they are), and the constructor checks every record: one that would
-// not be read back exactly (a CompactRecord not made by make(), off the grid) is refused by
-// name. So a packed store holds exactly the records it was given, and its queries report what
-// a store of plain CompactRecords reports (tests/test_stores.cpp).
+// splits a leaf's records into sub-octant runs until they are), and the constructor checks
+// every record: one that would not be read back exactly (a CompactRecord not made by make(),
+// off the grid) is refused by name. So a packed store holds exactly the records it was given,
+// and its queries report the hits, with the values, that a store of plain CompactRecords
+// reports (in another order within a leaf split into frames; tests/test_stores.cpp).
 //
 // Reading record i finds its frame from a table of the first frame of each block of 256
 // records (frames are runs of consecutive records, so the frame is that one or a few after it).

@@ -276,23 +276,32 @@ private:
     __attribute__((noinline))
 #endif
     bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, Buffer& buffer, C& collect) const {
-        Hit hit{};
-        for (std::uint32_t first = begin; first < end; first += read_size) {
-            const std::uint32_t last = end - first > read_size ? first + read_size : end;
-            const Record* const records = read(first, last, buffer);
-            for (std::uint32_t k = 0; k < last - first; ++k) {
-                const vec3 d = records[k].position() - ray.origin;
-                hit.t = glm::dot(d, ray.direction);
-                const vec3 perp = d - hit.t * ray.direction;
-                hit.distance2 = glm::dot(perp, perp);
-                hit.index = first + k;
-                if (!collect(hit)) return false;
+        if constexpr (packed) {  // a buffer's worth at a time
+            for (std::uint32_t first = begin; first < end; first += std::tuple_size_v<Buffer>) {
+                const std::uint32_t last = std::min<std::uint32_t>(end, first + std::tuple_size_v<Buffer>);
+                if (!report_run(ray, read(first, last, buffer), first, first, last, collect)) return false;
             }
+            return true;
+        } else {
+            (void)buffer;
+            return report_run(ray, records_.data(), 0, begin, end, collect);
+        }
+    }
+    /// report_all() over records [begin, end), record i at records[i - offset].
+    template <Collector C>
+    static bool report_run(const Ray& ray, const Record* records, std::uint32_t offset, std::uint32_t begin,
+                           std::uint32_t end, C& collect) {
+        Hit hit{};
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const vec3 d = records[i - offset].position() - ray.origin;
+            hit.t = glm::dot(d, ray.direction);
+            const vec3 perp = d - hit.t * ray.direction;
+            hit.distance2 = glm::dot(perp, perp);
+            hit.index = i;
+            if (!collect(hit)) return false;
         }
         return true;
     }
-    /// Records report_all() reads at a time: a buffer's worth (packed), else all at once.
-    static constexpr std::uint32_t read_size = packed ? std::uint32_t{64} : ~std::uint32_t{0} / 2;
 
     const Records& records_;
 };
