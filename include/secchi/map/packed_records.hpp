@@ -119,7 +119,6 @@ public:
     }
 
     [[nodiscard]] std::size_t size() const { return size_; }
-    [[nodiscard]] std::size_t frame_count() const { return frames_.size() - 1; }
     [[nodiscard]] bool empty() const { return size_ == 0; }
     [[nodiscard]] std::size_t memory_bytes() const {
         return codes_.capacity() * sizeof(std::uint64_t) + attributes_.capacity() * sizeof(Attributes) +
@@ -229,7 +228,9 @@ private:
     /// it is an integer that reads c back exactly.
     static std::uint64_t code(float c, const Axis& a, std::uint32_t record, const char* axis) {
         const double q = std::nearbyint((static_cast<double>(c) - a.origin) / a.step);
-        if (!(q >= 0.0 && q <= max_code) || std::bit_cast<std::uint32_t>(a.decode(static_cast<std::uint32_t>(q))) != std::bit_cast<std::uint32_t>(c))
+        const bool exact = q >= 0.0 && q <= max_code &&
+                           std::bit_cast<std::uint32_t>(a.decode(static_cast<std::uint32_t>(q))) == std::bit_cast<std::uint32_t>(c);
+        if (!exact)
             reject(std::string("photon record ") + std::to_string(record) + " coordinate " + axis, c,
                    "cannot be packed exactly with its neighbours (step " + std::to_string(a.step) +
                        " m): make CompactRecords with CompactRecord::make, whose coordinates lie on its 2^-22 m grid");

@@ -332,7 +332,7 @@ private:
     void frames_of(std::uint32_t begin, std::uint32_t end, const Cell& cell, std::vector<std::uint32_t>& begins,
                    std::vector<Record>& scratch) {
         const Node box = make_node(begin, end);
-        if (PackedRecords::is_fine(box.lo, box.hi) || box.lo == box.hi) {
+        if (PackedRecords::is_fine(box.lo, box.hi)) {  // (also where the records share one position)
             begins.push_back(begin);
             return;
         }
