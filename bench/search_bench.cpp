@@ -291,20 +291,23 @@ void suite_collect(const Options& o) {
 
     {  // the octree's two record layouts (map/packed_records.hpp), the same map, paired
         const auto packed = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(first, scene);
+        const auto plain = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::plain>>(first, scene);
         const auto per_photon = [&](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(first.records.size()); };
+        const std::string by_default = default_record_layout<CompactRecord> == RecordLayout::packed ? "packed" : "plain";
         out(o, "The VOI octree's record layouts on this map: packed (12 bytes per record) against plain (16-byte "
-               "CompactRecords, the default): bytes per photon (index included) " + fmt("%.2f", per_photon(packed.store().memory_bytes())) +
-                   " against " + fmt("%.2f", per_photon(voi.store().memory_bytes())) + ". **packed / plain** rays/s, "
+               "CompactRecords); the default in this build: " + by_default + ". Bytes per photon (index included) " +
+                   fmt("%.2f", per_photon(packed.store().memory_bytes())) + " against " +
+                   fmt("%.2f", per_photon(plain.store().memory_bytes())) + ". **packed / plain** rays/s, "
                    "paired as above, for the estimate and for the search only (counting visitor).\n");
         out(o, "| r_c (m) | photons/ray | packed rays/s | **packed / plain**, estimate | **packed / plain**, search only |");
         out(o, "|---|---|---|---|---|");
         for (const double rc : {r, r * std::sqrt(k[2].photons_per_ray / v.photons_per_ray)}) {
             const auto packed_est = radiance_estimator(packed, VoiCylinder{}, cone, rc);
-            const auto plain_est = radiance_estimator(voi, VoiCylinder{}, cone, rc);
+            const auto plain_est = radiance_estimator(plain, VoiCylinder{}, cone, rc);
             const auto c = collect(o, packed, VoiCylinder{}, cone, rays, rc);
             const Timing estimate = paired_ratio(o.repeats, [&] { plain_est.estimate(rays, 1); }, [&] { packed_est.estimate(rays, 1); });
             const Timing search = paired_ratio(
-                o.repeats, [&] { search_only(1, voi.store(), VoiCylinder{}, rays, rc); },
+                o.repeats, [&] { search_only(1, plain.store(), VoiCylinder{}, rays, rc); },
                 [&] { search_only(1, packed.store(), VoiCylinder{}, rays, rc); });
             out(o, "| " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " + rate_cell(c.t, nr) + " | **" +
                        fmt("%.3g", estimate.median) + "** [" + fmt("%.3g", estimate.lo) + "-" + fmt("%.3g", estimate.hi) + "] | **" +

@@ -218,13 +218,16 @@ std::vector<Hit> expected_nearest(const Store& s, const vec3& p, std::size_t k) 
 static_assert(PhotonStore<KdTreeStore<CompactRecord>> && PhotonStore<KdTreeStore<FullRecord>>);
 static_assert(PhotonStore<NanoflannStore<CompactRecord>> && PhotonStore<NanoflannStore<FullRecord>>);
 static_assert(PhotonStore<VoiOctreeStore<CompactRecord>> && PhotonStore<VoiOctreeStore<FullRecord>>);
-/// The octree with CompactRecords packed in 12 bytes (map/packed_records.hpp).
+/// The octree's two layouts of CompactRecords, named (the default: packed where the target has
+/// the SIMD leaf scan, else plain; voi_octree.hpp).
+using PlainOctree = VoiOctreeStore<CompactRecord, RecordLayout::plain>;
 using PackedOctree = VoiOctreeStore<CompactRecord, RecordLayout::packed>;
-static_assert(PhotonStore<PackedOctree>);
+static_assert(PhotonStore<PlainOctree> && PhotonStore<PackedOctree>);
+static_assert(std::same_as<VoiOctreeStore<CompactRecord>, std::conditional_t<SECCHI_HAS_CYLINDER_SCAN, PackedOctree, PlainOctree>>);
 
 #define SECCHI_ALL_STORES                                                                                          \
     KdTreeStore<CompactRecord>, KdTreeStore<FullRecord>, NanoflannStore<CompactRecord>, NanoflannStore<FullRecord>, \
-        VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,         \
+        PlainOctree, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,                           \
         VoiGridStore<FullRecord>
 
 TEMPLATE_TEST_CASE("within and along report exactly the brute-force records", "[stores]", SECCHI_ALL_STORES) {
@@ -400,7 +403,7 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     const auto per_photon = [](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(n); };
     const KdTreeStore<CompactRecord> kd(records);
     const NanoflannStore<CompactRecord> nano(records);
-    const VoiOctreeStore<CompactRecord> octree(records);
+    const PlainOctree octree(records);
     const PackedOctree packed(records);
     const VoiGridStore<CompactRecord> grid(records, Radius(0.02));
     WARN("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
@@ -420,7 +423,7 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
 }
 
 TEMPLATE_TEST_CASE("concurrent queries from 2 threads match sequential ones", "[stores][threads]",
-                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, VoiOctreeStore<CompactRecord>, PackedOctree,
+                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, PlainOctree, PackedOctree,
                    VoiGridStore<CompactRecord>) {
     const TestType store(make_records<CompactRecord>(Layout::clustered, 20000, 81));
     const auto queries = make_queries(Layout::clustered, 100, 82);
@@ -566,7 +569,7 @@ struct RunCollector {
 static_assert(ChunkCollector<RunCollector> && !ChunkCollector<CollectAll>);
 
 TEMPLATE_TEST_CASE("the VOI stores pass runs of hits to a ChunkCollector: the same hits, in order", "[stores]",
-                   VoiOctreeStore<CompactRecord>, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,
+                   PlainOctree, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,
                    VoiGridStore<FullRecord>) {
     const TestType store(make_records<typename TestType::record_type>(Layout::uniform, 20000, 68));
     std::size_t runs = 0, stopped = 0;
@@ -656,9 +659,10 @@ TEST_CASE("the scan's vertical kernel gives the general kernel's hits and values
     for (const Ray& ray : rays) {
         REQUIRE(is_vertical(ray));
         for (const double r : {0.02, 0.1, 0.45}) {
-            const std::uint32_t n = detail::scan_cylinder_kernel<true>(records.data(), count, ray, r * r, t[0].data(),
+            const detail::FloatRecordPositions<CompactRecord> positions{records.data()};
+            const std::uint32_t n = detail::scan_cylinder_kernel<true>(positions, count, ray, r * r, t[0].data(),
                                                                       d2[0].data(), offset[0].data());
-            const std::uint32_t general = detail::scan_cylinder_kernel<false>(records.data(), count, ray, r * r,
+            const std::uint32_t general = detail::scan_cylinder_kernel<false>(positions, count, ray, r * r,
                                                                              t[1].data(), d2[1].data(), offset[1].data());
             INFO("ray from " << ray.origin.x << " " << ray.origin.y << " " << ray.origin.z << ", r " << r);
             REQUIRE(n == general);
@@ -803,19 +807,70 @@ TEST_CASE("packed records hold CompactRecords exactly, in frames of the smallest
         REQUIRE(packed.frame_of(i) == f);
         REQUIRE(std::bit_cast<std::array<std::uint8_t, 16>>(packed[i]) == std::bit_cast<std::array<std::uint8_t, 16>>(records[i]));
     }
-    // positions() reads runs across frames as operator[] does.
-    std::vector<CompactRecord> run(700);
+    // for_each_frame() cuts runs across frames at the frames' begins, in order.
     for (int trial = 0; trial < 200; ++trial) {
         const auto begin = static_cast<std::uint32_t>(rng.bits() % (records.size() - 700));
-        const auto count = static_cast<std::uint32_t>(rng.bits() % 700);
-        packed.positions(begin, begin + count, run.data());
-        for (std::uint32_t k = 0; k < count; ++k)
-            REQUIRE(std::tie(run[k].x, run[k].y, run[k].z) == std::tie(records[begin + k].x, records[begin + k].y, records[begin + k].z));
+        const auto end = begin + 1 + static_cast<std::uint32_t>(rng.bits() % 700);
+        std::uint32_t next = begin;
+        packed.for_each_frame(begin, end, [&](std::uint32_t first, std::uint32_t last, const PackedRecords::Frame& frame) {
+            REQUIRE(first == next);
+            REQUIRE(first < last);
+            REQUIRE(frame.begin == begins[packed.frame_of(first)]);
+            REQUIRE(packed.frame_of(last - 1) == packed.frame_of(first));
+            REQUIRE((last == end || std::ranges::binary_search(begins, last)));
+            next = last;
+        });
+        REQUIRE(next == end);
     }
     const auto view = packed.view();
     REQUIRE(std::ranges::size(view) == records.size());
     for (std::uint32_t i = 0; i < records.size(); i += 97)
         REQUIRE(std::bit_cast<std::array<std::uint8_t, 16>>(view[i]) == std::bit_cast<std::array<std::uint8_t, 16>>(records[i]));
+#if SECCHI_HAS_CYLINDER_SCAN
+    // The leaf scan's kernel on the 64-bit words of one frame (CodedPositions) gives the hits,
+    // offsets and values of the kernel on the records' floats, bit for bit: rays through each
+    // frame's box in random directions (a third vertical), radii from a hundredth to the box.
+    std::vector<double> t[2], d2[2];
+    std::vector<std::uint32_t> offset[2];
+    std::size_t hits = 0;
+    for (std::size_t g = 0; g < begins.size(); ++g) {
+        const std::uint32_t first = begins[g], last = g + 1 < begins.size() ? begins[g + 1] : packed.size();
+        const std::uint32_t count = last - first, base = static_cast<std::uint32_t>(rng.bits() % 100);
+        for (int k = 0; k < 2; ++k) {
+            t[k].assign(count + detail::kScanSlack, 0.0);
+            d2[k].assign(count + detail::kScanSlack, 0.0);
+            offset[k].assign(count + detail::kScanSlack, 0);
+        }
+        vec3 lo = records[first].position(), hi = lo;
+        for (std::uint32_t i = first; i < last; ++i) lo = glm::min(lo, records[i].position()), hi = glm::max(hi, records[i].position());
+        const PackedRecords::Frame frame = [&] {
+            PackedRecords::Frame found{};
+            packed.for_each_frame(first, last, [&](std::uint32_t, std::uint32_t, const PackedRecords::Frame& f) { found = f; });
+            return found;
+        }();
+        const auto& a = frame.axis;
+        const detail::CodedPositions coded{packed.codes() + first, {a[0].origin, a[1].origin, a[2].origin}, {a[0].step, a[1].step, a[2].step}};
+        const double size = std::max(glm::length(hi - lo), 1e-12);
+        for (int trial = 0; trial < 3; ++trial) {
+            const vec3 dir = trial == 0 ? vec3(0.0, 0.0, rng.bits() % 2 ? 1.0 : -1.0) : random_unit(rng);
+            const vec3 through = lo + vec3(rng.uniform(), rng.uniform(), rng.uniform()) * (hi - lo);
+            const Ray ray{through - size * dir, dir, 2.0 * size};
+            const double r = size * std::pow(10.0, -2.0 + 2.0 * rng.uniform());
+            const std::uint32_t n = detail::scan_cylinder(coded, count, ray, r * r, t[0].data(), d2[0].data(), offset[0].data(), base);
+            const std::uint32_t m = detail::scan_cylinder(detail::FloatRecordPositions<CompactRecord>{records.data() + first}, count,
+                                                          ray, r * r, t[1].data(), d2[1].data(), offset[1].data(), base);
+            INFO("frame " << g << " of " << count << " records, ray " << trial);
+            REQUIRE(n == m);
+            for (std::uint32_t k = 0; k < n; ++k) {
+                REQUIRE(offset[0][k] == offset[1][k]);
+                REQUIRE(std::bit_cast<std::uint64_t>(t[0][k]) == std::bit_cast<std::uint64_t>(t[1][k]));
+                REQUIRE(std::bit_cast<std::uint64_t>(d2[0][k]) == std::bit_cast<std::uint64_t>(d2[1][k]));
+            }
+            hits += n;
+        }
+    }
+    CHECK(hits > 10000);
+#endif
     // A record off the grid (not made by make()) is refused by name, not rounded.
     std::vector<CompactRecord> off{CompactRecord::make(vec3(0.25, 0.25, 0.25), vec3(0, 0, 1), 0, 0),
                                    CompactRecord::make(vec3(0.75, 0.75, 0.75), vec3(0, 0, 1), 0, 0)};
@@ -837,7 +892,7 @@ TEST_CASE("the packed octree splits leaves too large for one frame, and agrees w
         records.push_back(CompactRecord::make(vec3(100.0 * rng.uniform(), 100.0 * rng.uniform(), 100.0 * rng.uniform()),
                                               random_unit(rng), 0, static_cast<std::uint8_t>(i % 8)));
     const PackedOctree packed(records);
-    const VoiOctreeStore<CompactRecord> plain(records);
+    const PlainOctree plain(records);
     REQUIRE(packed.node_count() == plain.node_count());
     // (One frame per leaf would be refused: its records could not be read back exactly.)
     REQUIRE(contents(packed.records()) == contents(records));  // exactly the records given

@@ -10,8 +10,9 @@
 // Frames. A frame covers the records [begin, next frame's begin) and is made from their
 // box [lo, hi] (floats, the tight box). Per axis, step = 2^e is the smallest power of two with
 // hi - origin <= (2^21 - 1) step, where origin = floor(lo / step) step; a coordinate c is
-// stored as q = (c - origin) / step and read back as origin + q step in float arithmetic (exact:
-// the value is a float). q is an integer, and the coordinate read back bit for bit, wherever
+// stored as q = (c - origin) / step and read back as origin + q step, in float arithmetic or, by
+// the leaf scan's kernels (cylinder_scan.hpp), in double (exact either way: the value is a
+// float). q is an integer, and the coordinate read back bit for bit, wherever
 //  - step <= position_grid (2^-22 m, record.hpp): CompactRecord::make puts every coordinate on
 //    that grid (zeros as +0), so a frame up to (2^21 - 1) 2^-22 m (0.5 m) wide holds any
 //    record; or
@@ -25,7 +26,8 @@
 // reports (in another order within a leaf split into frames; tests/test_stores.cpp).
 //
 // Reading record i finds its frame from a table of the first frame of each block of 256
-// records (frames are runs of consecutive records, so the frame is that one or a few after it).
+// records (frames are runs of consecutive records, so the frame is that one or a few after it);
+// the leaf scan goes through a run frame by frame (for_each_frame), reading the words in place.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
 #include "secchi/map/record.hpp"
@@ -56,6 +58,12 @@ public:
     struct Axis {
         float origin, step;
         [[nodiscard]] float decode(std::uint32_t q) const { return origin + static_cast<float>(q) * step; }
+    };
+
+    /// A run of records [begin, the next frame's begin) and its axes.
+    struct Frame {
+        std::array<Axis, 3> axis;
+        std::uint32_t begin;  ///< first record
     };
 
     /// The frame of one axis for coordinates in [lo, hi] (floats, lo <= hi), as described above.
@@ -185,31 +193,31 @@ public:
         return f;
     }
 
-    /// Positions of records [begin, end) (one frame's, or several) written to out[0, end - begin)
-    /// as CompactRecords whose other bytes are left as they were: what the leaf scan reads.
-    void positions(std::uint32_t begin, std::uint32_t end, CompactRecord* out) const {
+    /// Calls visit(first, last, frame) for each run [first, last) of records [begin, end)
+    /// (begin < end <= size()) that one frame holds, in order.
+    template <class Visit>
+    void for_each_frame(std::uint32_t begin, std::uint32_t end, Visit&& visit) const {
         for (std::uint32_t f = frame_of(begin); begin < end; ++f) {
             const std::uint32_t stop = std::min(end, frames_[f + 1].begin);
-            const Frame& frame = frames_[f];
-            for (std::uint32_t i = begin; i < stop; ++i, ++out) read_position(codes_[i], frame, *out);
+            visit(begin, stop, frames_[f]);
             begin = stop;
         }
     }
 
     /// The 64-bit position words, in record order (the leaf scan prefetches them).
     [[nodiscard]] const std::uint64_t* codes() const { return codes_.data(); }
+    /// The other bytes of the records (direction, band, batch), attribute_stride per record in
+    /// record order (the leaf scan prefetches them for the collector).
+    [[nodiscard]] const std::byte* attribute_bytes() const { return reinterpret_cast<const std::byte*>(attributes_.data()); }
+    static constexpr std::size_t attribute_stride = 4;
 
 private:
     static constexpr std::uint32_t block = 256;  ///< records per entry of block_frame_
 
-    struct Frame {
-        std::array<Axis, 3> axis;
-        std::uint32_t begin;  ///< first record
-    };
     struct Attributes {
         std::uint8_t theta, phi, band, batch;
     };
-    static_assert(sizeof(Attributes) == 4);
+    static_assert(sizeof(Attributes) == attribute_stride);
 
     static Frame make_frame(const std::vector<CompactRecord>& records, std::uint32_t begin, std::uint32_t end) {
         std::array<float, 3> lo{records[begin].x, records[begin].y, records[begin].z}, hi = lo;
@@ -225,11 +233,13 @@ private:
     }
 
     /// q = (c - origin) / step, in [0, max_code] for c in the frame's box; input_error unless
-    /// it is an integer that reads c back exactly.
+    /// it is an integer that reads c back exactly, both in float (decode) and in double
+    /// (origin + q step, as the leaf scan's kernels compute it: cylinder_scan.hpp).
     static std::uint64_t code(float c, const Axis& a, std::uint32_t record, const char* axis) {
         const double q = std::nearbyint((static_cast<double>(c) - a.origin) / a.step);
         const bool exact = q >= 0.0 && q <= max_code &&
-                           std::bit_cast<std::uint32_t>(a.decode(static_cast<std::uint32_t>(q))) == std::bit_cast<std::uint32_t>(c);
+                           std::bit_cast<std::uint32_t>(a.decode(static_cast<std::uint32_t>(q))) == std::bit_cast<std::uint32_t>(c) &&
+                           static_cast<double>(a.origin) + q * static_cast<double>(a.step) == static_cast<double>(c);
         if (!exact)
             reject(std::string("photon record ") + std::to_string(record) + " coordinate " + axis, c,
                    "cannot be packed exactly with its neighbours (step " + std::to_string(a.step) +

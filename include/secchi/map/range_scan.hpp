@@ -7,7 +7,8 @@
 // prefetching the records a steady prefetch_lead bytes ahead of the scan (through the ends
 // of ranges into the next ones), and tests each scanned range in chunks without a branch per
 // record: map/cylinder_scan.hpp's SIMD kernel where the target has AVX2 and FMA or AVX-512
-// (CompactRecord), else loops the compiler vectorises (measure()).
+// (CompactRecord, or packed records' 64-bit words read in place), else loops the compiler
+// vectorises (measure()).
 // The lead: the grid's column ranges (vertical rays: ~21 ranges of ~750 records per ray) are
 // longer than what the processor's own prefetchers fetch ahead, so the scan is bound by
 // memory latency (most of the kernel's cycles go to its loads) unless the hints run ahead of
@@ -39,8 +40,8 @@ concept FloatPositionRecord = requires(const R r) {
 };
 
 /// The cylinder scan over ranges of `records` (a view for one query: it keeps a reference):
-/// a std::vector of records, or PackedRecords (packed_records.hpp), whose positions each chunk
-/// reads back into a small buffer of CompactRecords that the same kernels then scan.
+/// a std::vector of records, or PackedRecords (packed_records.hpp), whose 64-bit position
+/// words the scan reads in place, frame by frame (cylinder_scan.hpp's CodedPositions).
 template <class Records>
 class CylinderRanges {
 public:
@@ -65,23 +66,26 @@ public:
     /// most Chunk::capacity records (to a ChunkCollector as one run of hits per chunk).
     template <Collector C>
     bool stream(const WorkList& work, const Ray& ray, double r2, C& collect) const {
-        Prefetcher ahead(work, stored_bytes());
-        ahead.advance(prefetch_lead);
-        Buffer buffer{};  // packed: the chunk's positions read back (its other bytes stay zero)
-        static_assert(std::tuple_size_v<Buffer> >= (packed ? Chunk::capacity : 0));
+        Prefetcher ahead(work, streams());
+        ahead.advance(prefetch_lead / stride);
         Hit hit{};
         for (std::size_t w = 0; w < work.size; ++w) {
             const auto& range = work.items[w];
-            if (range.whole) {  // hinted whole (by chunks: 0.94-0.98 times the octree's rays/s)
-                ahead.advance(bytes(range.begin, range.end));
-                if (!report_all(ray, range.begin, range.end, buffer, collect)) return false;
-                continue;
+            // hinted whole (by chunks: 0.94-0.98 times the octree's rays/s); packed records go
+            // through the scan instead, which accepts every one of them (the interior test's
+            // margin, search_support.hpp, is far beyond rounding) and reads them in place
+            if constexpr (!packed) {
+                if (range.whole) {
+                    ahead.advance(range.end - range.begin);
+                    if (!report_all(ray, range.begin, range.end, collect)) return false;
+                    continue;
+                }
             }
             for (std::uint32_t begin = range.begin; begin < range.end; begin += Chunk::capacity) {
                 const std::uint32_t end = std::min<std::uint32_t>(range.end, begin + Chunk::capacity);
-                ahead.advance(bytes(begin, end));
+                ahead.advance(end - begin);
                 Chunk chunk;
-                const std::uint32_t n = filter(read(begin, end, buffer), end - begin, available(begin), ray, r2, chunk);
+                const std::uint32_t n = filter_chunk(begin, end, ray, r2, chunk);
                 if constexpr (ChunkCollector<C>) {
                     if (!collect.hits(begin, chunk.accepted.data(), chunk.t.data(), chunk.distance2.data(), n)) return false;
                 } else {
@@ -97,58 +101,45 @@ public:
         return true;
     }
 
-    /// How far ahead of the scan the records are prefetched (bytes, across ranges).
+    /// How far ahead of the scan the records are prefetched (bytes of what the scan reads:
+    /// records, or packed records' 64-bit words; across ranges).
     static constexpr std::size_t prefetch_lead = 4096;
 
 private:
-    /// What one record occupies where the scan streams it: the record, or its 64-bit position word.
+    /// What one record occupies where the scan reads it: the record, or its 64-bit position word.
     static constexpr std::size_t stride = packed ? sizeof(std::uint64_t) : sizeof(Record);
-    static std::size_t bytes(std::uint32_t begin, std::uint32_t end) { return std::size_t{end - begin} * stride; }
-    [[nodiscard]] const std::byte* stored_bytes() const {
-        if constexpr (packed) return reinterpret_cast<const std::byte*>(records_.codes());
-        else return reinterpret_cast<const std::byte*>(records_.data());
+
+    /// An array the prefetcher hints: record i's bytes start at base + i stride.
+    struct Stream {
+        const std::byte* base;
+        std::size_t stride;
+    };
+    /// The records; packed, their position words and, for the collector, their other bytes.
+    using Streams = std::array<Stream, packed ? 2 : 1>;
+    [[nodiscard]] Streams streams() const {
+        if constexpr (packed)
+            return {Stream{reinterpret_cast<const std::byte*>(records_.codes()), stride},
+                    Stream{records_.attribute_bytes(), PackedRecords::attribute_stride}};
+        else
+            return {Stream{reinterpret_cast<const std::byte*>(records_.data()), stride}};
     }
 
-    /// Packed records' positions, a chunk at a time (unused for a vector of records).
-    using Buffer = std::conditional_t<packed, std::array<Record, 64>, std::array<Record, 0>>;
-    static_assert(!packed || std::tuple_size_v<Buffer> % 4 == 0, "measure() reads whole groups of 4");
-
-    /// Records [begin, end) (at most one chunk) as an array of records: in place, or read back into buffer.
-    const Record* read(std::uint32_t begin, std::uint32_t end, Buffer& buffer) const {
-        if constexpr (packed) {
-            records_.positions(begin, end, buffer.data());
-            return buffer.data();
-        } else {
-            (void)end, (void)buffer;
-            return records_.data() + begin;
-        }
-    }
-    /// How many records may be read from read(begin, ...)'s pointer (measure() rounds up to 4).
-    [[nodiscard]] std::uint32_t available(std::uint32_t begin) const {
-        if constexpr (packed) return static_cast<std::uint32_t>(std::tuple_size_v<Buffer>);
-        else return static_cast<std::uint32_t>(records_.size()) - begin;
-    }
-
-    /// Hints the cache to fetch the queued ranges' records in scan order, a given number of
-    /// bytes at a time: the scan calls advance(b) as it starts on b bytes, so the hints run
-    /// prefetch_lead bytes ahead of it, through range ends into the next ranges.
+    /// Hints the cache to fetch the queued ranges' records in scan order (each stream's
+    /// bytes of them), a given number of records at a time: the scan calls advance(n) as it
+    /// starts on n records, so the hints run prefetch_lead / stride records ahead of it,
+    /// through range ends into the next ranges.
     class Prefetcher {
     public:
-        Prefetcher(const WorkList& work, const std::byte* stored) : work_(work), stored_(stored) {}
-        void advance(std::size_t amount) {
+        Prefetcher(const WorkList& work, const Streams& streams) : work_(work), streams_(streams) {}
+        void advance(std::uint32_t amount) {
 #if defined(__GNUC__)
             while (amount > 0 && item_ < work_.size) {
                 const auto& range = work_.items[item_];
-                const auto first = reinterpret_cast<std::uintptr_t>(stored_ + std::size_t{range.begin} * stride);
-                const std::size_t size = bytes(range.begin, range.end);
-                const std::size_t step = std::min(amount, size - done_);
-                // one hint per 64-byte cache line that bytes [done_, done_ + step) touch
-                const std::uintptr_t last = (first + done_ + step - 1) & ~std::uintptr_t{63};
-                for (std::uintptr_t line = (first + done_) & ~std::uintptr_t{63}; line <= last; line += 64)
-                    __builtin_prefetch(reinterpret_cast<const void*>(line));
+                const std::uint32_t step = std::min(amount, range.end - range.begin - done_);
+                for (const Stream& s : streams_) hint(s, range.begin + done_, range.begin + done_ + step);
                 done_ += step;
                 amount -= step;
-                if (done_ == size) ++item_, done_ = 0;
+                if (done_ == range.end - range.begin) ++item_, done_ = 0;
             }
 #else
             (void)amount;
@@ -156,9 +147,21 @@ private:
         }
 
     private:
+        /// One hint per 64-byte cache line that the stream's bytes of records [begin, end) touch.
+        static void hint(const Stream& s, std::uint32_t begin, std::uint32_t end) {
+#if defined(__GNUC__)
+            if (begin == end) return;
+            const auto first = reinterpret_cast<std::uintptr_t>(s.base + std::size_t{begin} * s.stride) & ~std::uintptr_t{63};
+            const auto last = reinterpret_cast<std::uintptr_t>(s.base + std::size_t{end} * s.stride - 1) & ~std::uintptr_t{63};
+            for (std::uintptr_t line = first; line <= last; line += 64) __builtin_prefetch(reinterpret_cast<const void*>(line));
+#else
+            (void)s, (void)begin, (void)end;
+#endif
+        }
+
         const WorkList& work_;
-        const std::byte* stored_;
-        std::size_t item_ = 0, done_ = 0;  ///< the next byte to hint: item_'s range, done_ bytes in
+        Streams streams_;
+        std::uint32_t item_ = 0, done_ = 0;  ///< the next record to hint: item_'s range, done_ records in
     };
 
     /// One chunk of a range [begin, end): the records in_cylinder accepts, packed in order:
@@ -201,6 +204,14 @@ private:
                 zs[k] = p.z;
             }
         }
+        measure(xs, ys, zs, lanes, ray, r2, chunk);
+    }
+
+    /// measure()'s arithmetic on positions xs, ys, zs [0, lanes).
+    template <class Coordinate>
+    static void measure(const std::array<Coordinate, Chunk::capacity>& xs, const std::array<Coordinate, Chunk::capacity>& ys,
+                        const std::array<Coordinate, Chunk::capacity>& zs, std::uint32_t lanes, const Ray& ray, double r2,
+                        Chunk& chunk) {
         const double ox = ray.origin.x, oy = ray.origin.y, oz = ray.origin.z;
         const double ux = ray.direction.x, uy = ray.direction.y, uz = ray.direction.z;
         const double t_max = ray.t_max;
@@ -219,6 +230,46 @@ private:
         }
     }
 
+    /// Packed records' positions [first, last) in one frame, as the kernels read them.
+    [[nodiscard]] CodedPositions coded(std::uint32_t first, const PackedRecords::Frame& frame) const {
+        static_assert(CodedPositions::bits == PackedRecords::bits);
+        const auto& a = frame.axis;
+        return {records_.codes() + first, {a[0].origin, a[1].origin, a[2].origin}, {a[0].step, a[1].step, a[2].step}};
+    }
+
+    /// The records [begin, end) (at most one chunk) in the cylinder, into chunk (filter()'s
+    /// contract). Packed records go frame by frame, their 64-bit words read in place: to the
+    /// SIMD kernel where the target has it, else into measure()'s arrays as doubles (every
+    /// chunk: reading a short one back for filter_scalar() costs as much).
+    std::uint32_t filter_chunk(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
+        if constexpr (packed) {
+#if SECCHI_HAS_CYLINDER_SCAN
+            std::uint32_t n = 0;
+            records_.for_each_frame(begin, end, [&](std::uint32_t first, std::uint32_t last, const PackedRecords::Frame& frame) {
+                n += scan_cylinder(coded(first, frame), last - first, ray, r2, chunk.t.data() + n, chunk.distance2.data() + n,
+                                   chunk.accepted.data() + n, first - begin);
+            });
+            return n;
+#else
+            std::array<double, Chunk::capacity> xs, ys, zs;
+            records_.for_each_frame(begin, end, [&](std::uint32_t first, std::uint32_t last, const PackedRecords::Frame& frame) {
+                const CodedPositions source = coded(first, frame);
+                for (std::uint32_t k = 0; k < last - first; ++k) {
+                    xs[first - begin + k] = source.coordinate(k, 0);
+                    ys[first - begin + k] = source.coordinate(k, 1);
+                    zs[first - begin + k] = source.coordinate(k, 2);
+                }
+            });
+            const std::uint32_t lanes = (end - begin + 3) & ~3u;  // <= capacity; the extra slots: zeros, ignored
+            for (std::uint32_t k = end - begin; k < lanes; ++k) xs[k] = ys[k] = zs[k] = 0.0;
+            measure(xs, ys, zs, lanes, ray, r2, chunk);
+            return compact(end - begin, chunk);
+#endif
+        } else {
+            return filter(records_.data() + begin, end - begin, static_cast<std::uint32_t>(records_.size()) - begin, ray, r2, chunk);
+        }
+    }
+
     /// The records of [begin, end) (at most Chunk::capacity) that in_cylinder accepts: their
     /// slots in chunk.accepted, in order, without a branch per record (near the cylinder's
     /// surface acceptance is a coin toss, which a branch would mispredict half the time): each
@@ -233,12 +284,18 @@ private:
                                 double r2, Chunk& chunk) {
 #if SECCHI_HAS_CYLINDER_SCAN
         if constexpr (detail::PackedFloatRecord<Record>)
-            return detail::scan_cylinder(records, count, ray, r2, chunk.t.data(), chunk.distance2.data(), chunk.accepted.data());
+            return detail::scan_cylinder(FloatRecordPositions<Record>{records}, count, ray, r2, chunk.t.data(),
+                                         chunk.distance2.data(), chunk.accepted.data());
 #endif
         if (count < Chunk::vector_minimum) return filter_scalar(records, count, ray, r2, chunk);
         measure(records, count, available, ray, r2, chunk);
+        return compact(count, chunk);
+    }
+
+    /// Packs measure()'s slots [0, count) in place to the accepted ones (n <= k), in order.
+    static std::uint32_t compact(std::uint32_t count, Chunk& chunk) {
         std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < count; ++k) {  // packed in place: n <= k
+        for (std::uint32_t k = 0; k < count; ++k) {
             chunk.accepted[n] = k;
             chunk.t[n] = chunk.t[k];
             chunk.distance2[n] = chunk.distance2[k];
@@ -275,25 +332,11 @@ private:
 #if defined(__GNUC__)
     __attribute__((noinline))
 #endif
-    bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, Buffer& buffer, C& collect) const {
-        if constexpr (packed) {  // a buffer's worth at a time
-            for (std::uint32_t first = begin; first < end; first += std::tuple_size_v<Buffer>) {
-                const std::uint32_t last = std::min<std::uint32_t>(end, first + std::tuple_size_v<Buffer>);
-                if (!report_run(ray, read(first, last, buffer), first, first, last, collect)) return false;
-            }
-            return true;
-        } else {
-            (void)buffer;
-            return report_run(ray, records_.data(), 0, begin, end, collect);
-        }
-    }
-    /// report_all() over records [begin, end), record i at records[i - offset].
-    template <Collector C>
-    static bool report_run(const Ray& ray, const Record* records, std::uint32_t offset, std::uint32_t begin,
-                           std::uint32_t end, C& collect) {
+    bool report_all(const Ray& ray, std::uint32_t begin, std::uint32_t end, C& collect) const {
+        const Record* const records = records_.data();
         Hit hit{};
         for (std::uint32_t i = begin; i < end; ++i) {
-            const vec3 d = records[i - offset].position() - ray.origin;
+            const vec3 d = records[i].position() - ray.origin;
             hit.t = glm::dot(d, ray.direction);
             const vec3 perp = d - hit.t * ray.direction;
             hit.distance2 = glm::dot(perp, perp);

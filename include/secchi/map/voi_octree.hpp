@@ -16,12 +16,14 @@
 // child_count), no pointers. Each node stores the tight bounding box of its records in float,
 // rounded outward so it still contains every double position.
 //
-// Record layout (the Layout parameter): RecordLayout::plain (the default) keeps a std::vector of
-// the records. RecordLayout::packed (CompactRecord only, packed_records.hpp) keeps them in 12
-// bytes, 21-bit coordinates within frames: a leaf's records, or where the leaf's box is too
-// large for one frame, its records sorted by sub-octant within the leaf's range (no further
-// nodes), one frame each. The records read back exactly; records() is then a range of
-// CompactRecord values. Bytes per photon and speed of the two: BENCHMARKS.md.
+// Record layout (the Layout parameter; default_record_layout below): RecordLayout::plain keeps a
+// std::vector of the records. RecordLayout::packed (CompactRecord only, packed_records.hpp)
+// keeps them in 12 bytes, 21-bit coordinates within frames: a leaf's records, or where the
+// leaf's box is too large for one frame, its records sorted by sub-octant within the leaf's
+// range (no further nodes), one frame each. The records read back exactly; records() is then a
+// range of CompactRecord values, and the leaf scan reads the packed words in place
+// (range_scan.hpp). Packed is the default for CompactRecords where the target has the SIMD
+// scan, plain elsewhere. Bytes per photon and speed of the two: BENCHMARKS.md.
 //
 // Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
 // radius (plus a rounding margin, search_support.hpp's detail::pruning_pad), applied at query time,
@@ -68,6 +70,7 @@
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
 #include "secchi/core/config.hpp"
+#include "secchi/map/cylinder_scan.hpp"
 #include "secchi/map/packed_records.hpp"
 #include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
@@ -101,7 +104,16 @@ inline float float_above(double v) {
 
 }  // namespace detail
 
-template <PhotonRecord Record, RecordLayout Layout = RecordLayout::plain>
+/// The octree's default record layout: packed for CompactRecords where the target has the SIMD
+/// leaf scan (AVX2 and FMA, or AVX-512: SECCHI_HAS_CYLINDER_SCAN, cylinder_scan.hpp), whose
+/// kernels read the packed words in place at the plain layout's estimate rate with 12 bytes per
+/// record instead of 16; plain elsewhere (the portable loops read packed records at about
+/// 0.8 times the rate) and for other records. Rates and bytes: BENCHMARKS.md.
+template <class Record>
+inline constexpr RecordLayout default_record_layout =
+    std::same_as<Record, CompactRecord> && SECCHI_HAS_CYLINDER_SCAN ? RecordLayout::packed : RecordLayout::plain;
+
+template <PhotonRecord Record, RecordLayout Layout = default_record_layout<Record>>
 class VoiOctreeStore {
     static constexpr bool is_packed = Layout == RecordLayout::packed;
     static_assert(!is_packed || std::same_as<Record, CompactRecord>, "only CompactRecords pack (packed_records.hpp)");
