@@ -290,8 +290,8 @@ void suite_collect(const Options& o) {
     out(o, "");
 
     {  // the octree's two record layouts (map/packed_records.hpp), the same map, paired
-        const auto packed = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(first, scene);
         const auto plain = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::plain>>(first, scene);
+        const auto packed = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(first, scene);
         const auto per_photon = [&](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(first.records.size()); };
         const std::string by_default = default_record_layout<CompactRecord> == RecordLayout::packed ? "packed" : "plain";
         out(o, "The VOI octree's record layouts on this map: packed (12 bytes per record) against plain (16-byte "

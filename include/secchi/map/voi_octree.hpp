@@ -106,9 +106,9 @@ inline float float_above(double v) {
 
 /// The octree's default record layout: packed for CompactRecords where the target has the SIMD
 /// leaf scan (AVX2 and FMA, or AVX-512: SECCHI_HAS_CYLINDER_SCAN, cylinder_scan.hpp), whose
-/// kernels read the packed words in place at the plain layout's estimate rate with 12 bytes per
-/// record instead of 16; plain elsewhere (the portable loops read packed records at about
-/// 0.8 times the rate) and for other records. Rates and bytes: BENCHMARKS.md.
+/// kernels read the packed words in place at 0.87-1.03 times the plain layout's estimate rate
+/// with 12 bytes per record instead of 16; plain elsewhere (the portable loops read packed
+/// records at about 0.75 times the rate) and for other records. Rates and bytes: BENCHMARKS.md.
 template <class Record>
 inline constexpr RecordLayout default_record_layout =
     std::same_as<Record, CompactRecord> && SECCHI_HAS_CYLINDER_SCAN ? RecordLayout::packed : RecordLayout::plain;
