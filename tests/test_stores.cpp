@@ -640,18 +640,34 @@ TEST_CASE("VOI grid: along_stats counts the ranges and records a query scans", "
 }
 
 #if SECCHI_HAS_CYLINDER_SCAN
+/// The output arrays of two runs of the scan's kernels over up to `count` records.
+struct TwoScans {
+    explicit TwoScans(std::uint32_t count) {
+        for (int k = 0; k < 2; ++k) {
+            t[k].resize(count + detail::kScanSlack);
+            d2[k].resize(count + detail::kScanSlack);
+            offset[k].resize(count + detail::kScanSlack);
+        }
+    }
+    /// The runs found n and m hits: the same number, offsets, t and distance2, bit for bit.
+    void require_same(std::uint32_t n, std::uint32_t m) const {
+        REQUIRE(n == m);
+        for (std::uint32_t k = 0; k < n; ++k) {
+            REQUIRE(offset[0][k] == offset[1][k]);
+            REQUIRE(std::bit_cast<std::uint64_t>(t[0][k]) == std::bit_cast<std::uint64_t>(t[1][k]));
+            REQUIRE(std::bit_cast<std::uint64_t>(d2[0][k]) == std::bit_cast<std::uint64_t>(d2[1][k]));
+        }
+    }
+    std::vector<double> t[2], d2[2];
+    std::vector<std::uint32_t> offset[2];
+};
+
 TEST_CASE("the scan's vertical kernel gives the general kernel's hits and values bit for bit", "[stores][scan]") {
     // Records in the unit cube; vertical rays down and up, through the cube and from outside
     // it, with radii from a few records' spacing to most of the cube.
     const auto records = make_records<CompactRecord>(Layout::uniform, 5037, 117);
     const auto count = static_cast<std::uint32_t>(records.size());
-    std::vector<double> t[2], d2[2];
-    std::vector<std::uint32_t> offset[2];
-    for (int k = 0; k < 2; ++k) {
-        t[k].resize(count + detail::kScanSlack);
-        d2[k].resize(count + detail::kScanSlack);
-        offset[k].resize(count + detail::kScanSlack);
-    }
+    TwoScans scans(count);
     const Ray rays[] = {{{0.5, 0.5, -1.0}, {0.0, 0.0, 1.0}, 5.0},   {{0.3, 0.71, 0.2}, {0.0, 0.0, 1.0}, 0.5},
                         {{0.62, 0.4, 0.9}, {0.0, 0.0, -1.0}, 0.7},  {{0.05, 0.93, 3.0}, {-0.0, 0.0, -1.0}, 10.0},
                         {{1.3, 0.5, 0.5}, {0.0, -0.0, 1.0}, 0.3}};
@@ -660,17 +676,12 @@ TEST_CASE("the scan's vertical kernel gives the general kernel's hits and values
         REQUIRE(is_vertical(ray));
         for (const double r : {0.02, 0.1, 0.45}) {
             const detail::FloatRecordPositions<CompactRecord> positions{records.data()};
-            const std::uint32_t n = detail::scan_cylinder_kernel<true>(positions, count, ray, r * r, t[0].data(),
-                                                                      d2[0].data(), offset[0].data());
-            const std::uint32_t general = detail::scan_cylinder_kernel<false>(positions, count, ray, r * r,
-                                                                             t[1].data(), d2[1].data(), offset[1].data());
+            const std::uint32_t n = detail::scan_cylinder_kernel<true>(positions, count, ray, r * r, scans.t[0].data(),
+                                                                      scans.d2[0].data(), scans.offset[0].data());
+            const std::uint32_t general = detail::scan_cylinder_kernel<false>(
+                positions, count, ray, r * r, scans.t[1].data(), scans.d2[1].data(), scans.offset[1].data());
             INFO("ray from " << ray.origin.x << " " << ray.origin.y << " " << ray.origin.z << ", r " << r);
-            REQUIRE(n == general);
-            for (std::uint32_t k = 0; k < n; ++k) {
-                REQUIRE(offset[0][k] == offset[1][k]);
-                REQUIRE(std::bit_cast<std::uint64_t>(t[0][k]) == std::bit_cast<std::uint64_t>(t[1][k]));
-                REQUIRE(std::bit_cast<std::uint64_t>(d2[0][k]) == std::bit_cast<std::uint64_t>(d2[1][k]));
-            }
+            scans.require_same(n, general);
             hits += n;
         }
     }
@@ -830,17 +841,11 @@ TEST_CASE("packed records hold CompactRecords exactly, in frames of the smallest
     // The leaf scan's kernel on the 64-bit words of one frame (CodedPositions) gives the hits,
     // offsets and values of the kernel on the records' floats, bit for bit: rays through each
     // frame's box in random directions (a third vertical), radii from a hundredth to the box.
-    std::vector<double> t[2], d2[2];
-    std::vector<std::uint32_t> offset[2];
     std::size_t hits = 0;
     for (std::size_t g = 0; g < begins.size(); ++g) {
         const std::uint32_t first = begins[g], last = g + 1 < begins.size() ? begins[g + 1] : packed.size();
         const std::uint32_t count = last - first, base = static_cast<std::uint32_t>(rng.bits() % 100);
-        for (int k = 0; k < 2; ++k) {
-            t[k].assign(count + detail::kScanSlack, 0.0);
-            d2[k].assign(count + detail::kScanSlack, 0.0);
-            offset[k].assign(count + detail::kScanSlack, 0);
-        }
+        TwoScans scans(count);
         vec3 lo = records[first].position(), hi = lo;
         for (std::uint32_t i = first; i < last; ++i) lo = glm::min(lo, records[i].position()), hi = glm::max(hi, records[i].position());
         const PackedRecords::Frame frame = [&] {
@@ -856,16 +861,12 @@ TEST_CASE("packed records hold CompactRecords exactly, in frames of the smallest
             const vec3 through = lo + vec3(rng.uniform(), rng.uniform(), rng.uniform()) * (hi - lo);
             const Ray ray{through - size * dir, dir, 2.0 * size};
             const double r = size * std::pow(10.0, -2.0 + 2.0 * rng.uniform());
-            const std::uint32_t n = detail::scan_cylinder(coded, count, ray, r * r, t[0].data(), d2[0].data(), offset[0].data(), base);
+            const std::uint32_t n = detail::scan_cylinder(coded, count, ray, r * r, scans.t[0].data(), scans.d2[0].data(),
+                                                          scans.offset[0].data(), base);
             const std::uint32_t m = detail::scan_cylinder(detail::FloatRecordPositions<CompactRecord>{records.data() + first}, count,
-                                                          ray, r * r, t[1].data(), d2[1].data(), offset[1].data(), base);
+                                                          ray, r * r, scans.t[1].data(), scans.d2[1].data(), scans.offset[1].data(), base);
             INFO("frame " << g << " of " << count << " records, ray " << trial);
-            REQUIRE(n == m);
-            for (std::uint32_t k = 0; k < n; ++k) {
-                REQUIRE(offset[0][k] == offset[1][k]);
-                REQUIRE(std::bit_cast<std::uint64_t>(t[0][k]) == std::bit_cast<std::uint64_t>(t[1][k]));
-                REQUIRE(std::bit_cast<std::uint64_t>(d2[0][k]) == std::bit_cast<std::uint64_t>(d2[1][k]));
-            }
+            scans.require_same(n, m);
             hits += n;
         }
     }
