@@ -183,8 +183,10 @@ struct Load8<CodedPositions> {
     const std::uint64_t* codes;
     __m512d origin[3], step[3];
     const __m512i mask = _mm512_set1_epi64((1ll << CodedPositions::bits) - 1);
+#if !defined(__AVX512DQ__)
     const __m512i two52_bits = _mm512_set1_epi64(0x4330000000000000ll);
     const __m512d two52 = _mm512_set1_pd(0x1p52);
+#endif
 };
 
 /// The records [0, count) of `source` that in_cylinder(ray, position, r2) accepts: their t,

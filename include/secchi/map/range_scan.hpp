@@ -230,7 +230,7 @@ private:
         }
     }
 
-    /// Packed records' positions [first, last) in one frame, as the kernels read them.
+    /// The positions of packed records from `first` on, within one frame, as the kernels read them.
     [[nodiscard]] CodedPositions coded(std::uint32_t first, const PackedRecords::Frame& frame) const {
         static_assert(CodedPositions::bits == PackedRecords::bits);
         const auto& a = frame.axis;
