@@ -132,7 +132,8 @@ void suite_build(const Options& o) {
         const auto compact = to_compact(full, n);
         build_row<KdTreeStore<CompactRecord>>(o, "k-d tree", "compact", compact, reps);
         build_row<NanoflannStore<CompactRecord>>(o, "nanoflann", "compact", compact, reps);
-        build_row<VoiOctreeStore<CompactRecord>>(o, "VOI octree", "compact", compact, reps);
+        build_row<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(o, "VOI octree (packed records, the default)", "compact", compact, reps);
+        build_row<VoiOctreeStore<CompactRecord, RecordLayout::plain>>(o, "VOI octree (plain records)", "compact", compact, reps);
         build_row<VoiGridStore<CompactRecord>>(o, "VOI grid (cells for r = 0.05)", "compact", compact, reps, Radius(0.05));
         const auto fullp = prefix(full, n);
         build_row<KdTreeStore<FullRecord>>(o, "k-d tree", "full", fullp, reps);

@@ -39,7 +39,6 @@
 #include "secchi/core/config.hpp"
 #include "secchi/map/store.hpp"
 #include <array>
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -80,13 +79,6 @@ struct CodedPositions {
     static constexpr int bits = 21;
     const std::uint64_t* codes;
     std::array<double, 3> origin, step;
-    /// Coordinate `axis` of record k, one at a time (the portable loops' form of the kernels'):
-    /// q as a double by the exponent trick (the bits of 2^52 + q, minus 2^52: exact, and
-    /// vectorisable where an integer-to-double conversion of 64 bits is not), times step, plus origin.
-    [[nodiscard]] double coordinate(std::uint32_t k, int axis) const {
-        const std::uint64_t q = (codes[k] >> (bits * axis)) & ((std::uint64_t{1} << bits) - 1);
-        return origin[axis] + (std::bit_cast<double>(q | 0x4330000000000000u) - 0x1p52) * step[axis];
-    }
 };
 
 /// Spare entries the output arrays need past the last accepted record (one vector).
@@ -170,8 +162,8 @@ struct Load8<CodedPositions> {
         z = coordinate(_mm512_srli_epi64(q, 2 * CodedPositions::bits), 2);
     }
     /// origin + q step for the low 21 bits q of each word: q as a double (AVX-512DQ's
-    /// conversion, else CodedPositions::coordinate's exponent trick; exact either way), then
-    /// one multiply-add (q step is exact).
+    /// conversion, else the exponent trick: the bits of 2^52 + q, minus 2^52; exact either
+    /// way), then one multiply-add (q step is exact).
     [[nodiscard]] __m512d coordinate(__m512i word, int axis) const {
 #if defined(__AVX512DQ__)
         const __m512d q = _mm512_cvtepi64_pd(_mm512_and_si512(word, mask));

@@ -13,8 +13,8 @@
 // stored as q = (c - origin) / step and read back as origin + q step, in float arithmetic or, by
 // the leaf scan's kernels (cylinder_scan.hpp), in double (exact either way: the value is a
 // float). q is an integer, and the coordinate read back bit for bit, wherever
-//  - step <= position_grid (2^-22 m, record.hpp): CompactRecord::make puts every coordinate on
-//    that grid (zeros as +0), so a frame up to (2^21 - 1) 2^-22 m (0.5 m) wide holds any
+//  - step <= position_grid (2^-20 m, record.hpp): CompactRecord::make puts every coordinate on
+//    that grid (zeros as +0), so a frame up to (2^21 - 1) 2^-20 m (2 m) wide holds any
 //    record; or
 //  - |c| >= 2^23 step throughout the box: a float that large is a multiple of its own spacing
 //    2^(exponent - 23) >= step (frames far from the origin may be wider).
@@ -57,7 +57,8 @@ public:
     /// One axis of a frame: coordinate = origin + q step (step a power of two).
     struct Axis {
         float origin, step;
-        [[nodiscard]] float decode(std::uint32_t q) const { return origin + static_cast<float>(q) * step; }
+        /// (q < 2^21 converts as a signed integer: one instruction per vector where an unsigned one is several.)
+        [[nodiscard]] float decode(std::uint32_t q) const { return origin + static_cast<float>(static_cast<std::int32_t>(q)) * step; }
     };
 
     /// A run of records [begin, the next frame's begin) and its axes.
@@ -204,6 +205,25 @@ public:
         }
     }
 
+    /// Integer q of coordinate `axis` (0: x, 1: y, 2: z) in a position word.
+    [[nodiscard]] static std::uint32_t field(std::uint64_t code, int axis) {
+        return static_cast<std::uint32_t>(code >> (bits * axis)) & max_code;
+    }
+
+    /// The positions of records [first, last) of one frame (a run for_each_frame gives) as
+    /// floats, exact, into x, y and z [0, last - first): a loop the compiler vectorises (the
+    /// leaf scan's portable form; its SIMD kernels read the words themselves).
+    void read_positions(std::uint32_t first, std::uint32_t last, const Frame& frame, float* x,
+                        float* y, float* z) const {
+        const std::uint64_t* const codes = codes_.data() + first;
+        const Axis ax = frame.axis[0], ay = frame.axis[1], az = frame.axis[2];
+        for (std::uint32_t k = 0; k < last - first; ++k) {
+            x[k] = ax.decode(field(codes[k], 0));
+            y[k] = ay.decode(field(codes[k], 1));
+            z[k] = az.decode(field(codes[k], 2));
+        }
+    }
+
     /// The 64-bit position words, in record order (the leaf scan prefetches them).
     [[nodiscard]] const std::uint64_t* codes() const { return codes_.data(); }
     /// The other bytes of the records (direction, band, batch), attribute_stride per record in
@@ -243,7 +263,7 @@ private:
         if (!exact)
             reject(std::string("photon record ") + std::to_string(record) + " coordinate " + axis, c,
                    "cannot be packed exactly with its neighbours (step " + std::to_string(a.step) +
-                       " m): make CompactRecords with CompactRecord::make, whose coordinates lie on its 2^-22 m grid");
+                       " m): make CompactRecords with CompactRecord::make, whose coordinates lie on its 2^-20 m grid");
         return static_cast<std::uint64_t>(q);
     }
 
@@ -253,10 +273,10 @@ private:
         attributes_[i] = {r.theta, r.phi, r.band_, r.batch_};
     }
 
-    static void read_position(std::uint64_t q, const Frame& frame, CompactRecord& r) {
-        r.x = frame.axis[0].decode(static_cast<std::uint32_t>(q) & max_code);
-        r.y = frame.axis[1].decode(static_cast<std::uint32_t>(q >> bits) & max_code);
-        r.z = frame.axis[2].decode(static_cast<std::uint32_t>(q >> (2 * bits)) & max_code);
+    static void read_position(std::uint64_t code, const Frame& frame, CompactRecord& r) {
+        r.x = frame.axis[0].decode(field(code, 0));
+        r.y = frame.axis[1].decode(field(code, 1));
+        r.z = frame.axis[2].decode(field(code, 2));
     }
 
     std::uint32_t size_ = 0;

@@ -239,8 +239,9 @@ private:
 
     /// The records [begin, end) (at most one chunk) in the cylinder, into chunk (filter()'s
     /// contract). Packed records go frame by frame, their 64-bit words read in place: to the
-    /// SIMD kernel where the target has it, else into measure()'s arrays as doubles (every
-    /// chunk: reading a short one back for filter_scalar() costs as much).
+    /// SIMD kernel where the target has it, else decoded into measure()'s arrays as floats
+    /// (PackedRecords::read_positions; every chunk: reading a short one back for
+    /// filter_scalar() costs as much).
     std::uint32_t filter_chunk(std::uint32_t begin, std::uint32_t end, const Ray& ray, double r2, Chunk& chunk) const {
         if constexpr (packed) {
 #if SECCHI_HAS_CYLINDER_SCAN
@@ -251,17 +252,13 @@ private:
             });
             return n;
 #else
-            std::array<double, Chunk::capacity> xs, ys, zs;
+            std::array<float, Chunk::capacity> xs, ys, zs;
             records_.for_each_frame(begin, end, [&](std::uint32_t first, std::uint32_t last, const PackedRecords::Frame& frame) {
-                const CodedPositions source = coded(first, frame);
-                for (std::uint32_t k = 0; k < last - first; ++k) {
-                    xs[first - begin + k] = source.coordinate(k, 0);
-                    ys[first - begin + k] = source.coordinate(k, 1);
-                    zs[first - begin + k] = source.coordinate(k, 2);
-                }
+                records_.read_positions(first, last, frame, xs.data() + (first - begin), ys.data() + (first - begin),
+                                        zs.data() + (first - begin));
             });
             const std::uint32_t lanes = (end - begin + 3) & ~3u;  // <= capacity; the extra slots: zeros, ignored
-            for (std::uint32_t k = end - begin; k < lanes; ++k) xs[k] = ys[k] = zs[k] = 0.0;
+            for (std::uint32_t k = end - begin; k < lanes; ++k) xs[k] = ys[k] = zs[k] = 0.0f;
             measure(xs, ys, zs, lanes, ray, r2, chunk);
             return compact(end - begin, chunk);
 #endif

@@ -2,7 +2,7 @@
 // Photon records: what the first pass stores at each scattering event (manual 3.3.2).
 // Flux is implicit: every stored photon carries Phi_source / photons_shot (manual 3.3.2.4).
 // Two policies behind one concept:
-//  - CompactRecord: 16 bytes. Position as float3 (3.3.2.1) on a grid of 2^-22 m (below), direction as two bytes (theta,
+//  - CompactRecord: 16 bytes. Position as float3 (3.3.2.1) on a grid of 2^-20 m (below), direction as two bytes (theta,
 //    phi, Jensen's encoding, 3.3.2.2), band index one byte (3.3.2.5), and one byte holding the
 //    batch index (the independent batch the photon belongs to, for standard errors; up to 64)
 //    and two bits a store may use (the k-d tree keeps its split axis there, as Jensen does).
@@ -42,18 +42,24 @@ constexpr unsigned record_max_batches() {
     else return 256;
 }
 
-/// CompactRecord's position grid, m: every coordinate it stores is a multiple of 2^-22 m
-/// (0.24 um). Floats are that coarse from 2 m out; nearer the origin, where they are finer, a
-/// coordinate is rounded to the nearest multiple (within 2^-23 m, 0.12 um). A store may then
-/// pack positions as integers on a coarser grid without losing a bit (map/packed_records.hpp).
-inline constexpr double position_grid = 0x1p-22;
+/// CompactRecord's position grid, m: every coordinate it stores is a multiple of 2^-20 m
+/// (0.95 um; collection radii are millimetres to decimetres). Floats are that
+/// coarse from 8 m out (position_grid_limit); nearer the origin, where they are finer, a
+/// coordinate is rounded to the nearest multiple (by at most 2^-21 m, 0.48 um). A store may
+/// then pack positions as 21-bit integers in frames up to 2 m wide without losing a bit
+/// (map/packed_records.hpp).
+inline constexpr double position_grid = 0x1p-20;
+/// From this magnitude on floats are at least as coarse as position_grid: 2^23 position_grid (8 m).
+inline constexpr double position_grid_limit = 0x1p23 * position_grid;
 
 namespace detail {
-/// A coordinate as CompactRecord stores it: the nearest multiple of position_grid for |c| < 2
-/// (exact in float: fewer than 2^23 steps; a zero is +0, as the packed layout reads it back),
+/// A coordinate as CompactRecord stores it: the nearest multiple of position_grid for |c| <
+/// position_grid_limit (exact in float: fewer than 2^23 steps; a zero is +0, as the packed
+/// layout reads it back),
 /// else the nearest float (itself a multiple).
 inline float grid_coordinate(double c) {
-    return std::abs(c) < 2.0 ? static_cast<float>(std::nearbyint(c * 0x1p22) * position_grid + 0.0) : static_cast<float>(c);
+    return std::abs(c) < position_grid_limit ? static_cast<float>(std::nearbyint(c / position_grid) * position_grid + 0.0)
+                                              : static_cast<float>(c);
 }
 
 /// Decoding tables for the two-byte direction: theta in [0, pi], phi in [0, 2 pi).

@@ -118,13 +118,14 @@ SECCHI_KERNEL Real encode_phi(const Real& dx, const Real& dy) {
 
 template <>
 struct LaneRecords<CompactRecord> {
-    /// detail::grid_coordinate in lanes: the nearest multiple of position_grid for |c| < 2 (in
-    /// float lanes c 2^22 and its rounding are exact, as in double), else the nearest float.
+    /// detail::grid_coordinate in lanes: the nearest multiple of position_grid for |c| <
+    /// position_grid_limit (in float lanes c / position_grid, below 2^23, and its rounding are
+    /// exact, as in double), else the nearest float.
     template <class Floats, class Real>
     static Floats grid_coordinates(const Real& c) {
         using T = typename Real::value_type;
-        const Real on_grid = lanes::stdx::nearbyint(c * Real(T(0x1p22))) * Real(T(position_grid)) + Real(T(0));  // -0 to +0
-        return lanes::stdx::static_simd_cast<Floats>(select(lanes::stdx::abs(c) < Real(T(2)), on_grid, c));
+        const Real on_grid = lanes::stdx::nearbyint(c * Real(T(1.0 / position_grid))) * Real(T(position_grid)) + Real(T(0));  // -0 to +0
+        return lanes::stdx::static_simd_cast<Floats>(select(lanes::stdx::abs(c) < Real(T(position_grid_limit)), on_grid, c));
     }
 
     /// As the general make_kept. The last four bytes of a record (theta, phi, band, batch) are

@@ -22,8 +22,8 @@
 // leaf's box is too large for one frame, its records sorted by sub-octant within the leaf's
 // range (no further nodes), one frame each. The records read back exactly; records() is then a
 // range of CompactRecord values, and the leaf scan reads the packed words in place
-// (range_scan.hpp). Packed is the default for CompactRecords where the target has the SIMD
-// scan, plain elsewhere. Bytes per photon and speed of the two: BENCHMARKS.md.
+// (range_scan.hpp). Packed is the default for CompactRecords. Bytes per photon and speed of
+// the two: BENCHMARKS.md.
 //
 // Padding: the manual pads the boxes "to account for VOI overlap". Here the pad is the query
 // radius (plus a rounding margin, search_support.hpp's detail::pruning_pad), applied at query time,
@@ -104,14 +104,13 @@ inline float float_above(double v) {
 
 }  // namespace detail
 
-/// The octree's default record layout: packed for CompactRecords where the target has the SIMD
-/// leaf scan (AVX2 and FMA, or AVX-512: SECCHI_HAS_CYLINDER_SCAN, cylinder_scan.hpp), whose
-/// kernels read the packed words in place at 0.87-1.03 times the plain layout's estimate rate
-/// with 12 bytes per record instead of 16; plain elsewhere (the portable loops read packed
-/// records at about 0.75 times the rate) and for other records. Rates and bytes: BENCHMARKS.md.
+/// The octree's default record layout: packed for CompactRecords (12 bytes per record instead
+/// of 16; the octree's estimate runs at 1.02-1.13 times the plain layout's rate where the
+/// target has the leaf scan's SIMD kernels, cylinder_scan.hpp, and at 0.92-1.03 times with the
+/// portable loops), plain for other records. Rates and bytes: BENCHMARKS.md.
 template <class Record>
 inline constexpr RecordLayout default_record_layout =
-    std::same_as<Record, CompactRecord> && SECCHI_HAS_CYLINDER_SCAN ? RecordLayout::packed : RecordLayout::plain;
+    std::same_as<Record, CompactRecord> ? RecordLayout::packed : RecordLayout::plain;
 
 template <PhotonRecord Record, RecordLayout Layout = default_record_layout<Record>>
 class VoiOctreeStore {
