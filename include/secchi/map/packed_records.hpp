@@ -256,7 +256,9 @@ private:
     /// it is an integer that reads c back exactly, both in float (decode) and in double
     /// (origin + q step, as the leaf scan's kernels compute it: cylinder_scan.hpp).
     static std::uint64_t code(float c, const Axis& a, std::uint32_t record, const char* axis) {
-        const double q = std::nearbyint((static_cast<double>(c) - a.origin) / a.step);
+        // times 1 / step, a power of two (exact), and rounded by two additions: no library call
+        // (std::nearbyint is one without SSE4.1); a q that is not exact fails the test below.
+        const double q = detail::round_to_integer((static_cast<double>(c) - a.origin) * (1.0 / static_cast<double>(a.step)));
         const bool exact = q >= 0.0 && q <= max_code &&
                            std::bit_cast<std::uint32_t>(a.decode(static_cast<std::uint32_t>(q))) == std::bit_cast<std::uint32_t>(c) &&
                            static_cast<double>(a.origin) + q * static_cast<double>(a.step) == static_cast<double>(c);

@@ -330,26 +330,26 @@ private:
         for (std::uint32_t i = 0; i < nodes_.size(); ++i)
             if (nodes_[i].child_count == 0) leaves.push_back(i);
         std::sort(leaves.begin(), leaves.end(), [&](std::uint32_t a, std::uint32_t b) { return nodes_[a].begin < nodes_[b].begin; });
-        for (const std::uint32_t i : leaves) frames_of(nodes_[i].begin, nodes_[i].end, cells[i], begins, scratch);
+        for (const std::uint32_t i : leaves) frames_of(nodes_[i], cells[i], begins, scratch);
         packed_ = PackedRecords(records_, begins);
         records_ = std::vector<Record>();  // (not `= {}`: that keeps the capacity)
     }
 
-    /// The frames of records [begin, end) of a leaf, appended to `begins`: one if their box is
-    /// fine, else their records sorted by octant of `cell` (as divide() sorts them, but
-    /// without nodes: the leaf keeps its range and its records stay in it) and each octant's
-    /// frames in turn. Halving the cell ends in fine boxes: at the latest where a cell is
-    /// narrower than the records' position grid, its records share their coordinates.
-    void frames_of(std::uint32_t begin, std::uint32_t end, const Cell& cell, std::vector<std::uint32_t>& begins,
-                   std::vector<Record>& scratch) {
-        const Node box = make_node(begin, end);
-        if (PackedRecords::is_fine(box.lo, box.hi)) {  // (also where the records share one position)
-            begins.push_back(begin);
+    /// The frames of the records of `run` (a leaf, or part of one, with its box), appended to
+    /// `begins`: one if their box is fine, else their records sorted by octant of `cell` (as
+    /// divide() sorts them, but without nodes: the leaf keeps its range and its records stay
+    /// in it) and each octant's frames in turn. Halving the cell ends in fine boxes: at the
+    /// latest where a cell is narrower than the records' position grid, its records share
+    /// their coordinates.
+    void frames_of(const Node& run, const Cell& cell, std::vector<std::uint32_t>& begins, std::vector<Record>& scratch) {
+        if (PackedRecords::is_fine(run.lo, run.hi)) {  // (also where the records share one position)
+            begins.push_back(run.begin);
             return;
         }
-        const auto start = sort_by_octant(begin, end, cell.centre, scratch);
+        const auto start = sort_by_octant(run.begin, run.end, cell.centre, scratch);
         for (unsigned o = 0; o < 8; ++o)
-            if (start[o] != start[o + 1]) frames_of(begin + start[o], begin + start[o + 1], cell.child(o), begins, scratch);
+            if (start[o] != start[o + 1])
+                frames_of(make_node(run.begin + start[o], run.begin + start[o + 1]), cell.child(o), begins, scratch);
     }
 
     /// Divides node i into its non-empty octants: a stable counting sort of its records by
