@@ -43,8 +43,8 @@ constexpr unsigned record_max_batches() {
 }
 
 /// CompactRecord's position grid, m: every coordinate it stores is a multiple of 2^-20 m
-/// (0.95 um; collection radii are millimetres to decimetres). Floats are that
-/// coarse from 8 m out (position_grid_limit); nearer the origin, where they are finer, a
+/// (0.95 um; collection radii are millimetres to decimetres). Floats are that coarse from
+/// 8 m out (position_grid_limit); nearer the origin, where they are finer, a
 /// coordinate is rounded to the nearest multiple (by at most 2^-21 m, 0.48 um). A store may
 /// then pack positions as 21-bit integers in frames up to 2 m wide without losing a bit
 /// (map/packed_records.hpp).
@@ -55,8 +55,7 @@ inline constexpr double position_grid_limit = 0x1p23 * position_grid;
 namespace detail {
 /// A coordinate as CompactRecord stores it: the nearest multiple of position_grid for |c| <
 /// position_grid_limit (exact in float: fewer than 2^23 steps; a zero is +0, as the packed
-/// layout reads it back),
-/// else the nearest float (itself a multiple).
+/// layout reads it back), else the nearest float (itself a multiple).
 inline float grid_coordinate(double c) {
     return std::abs(c) < position_grid_limit ? static_cast<float>(std::nearbyint(c / position_grid) * position_grid + 0.0)
                                               : static_cast<float>(c);
