@@ -23,6 +23,7 @@
 #include <embree3/rtcore.h>
 #include <cmath>
 #include <cstdint>
+#include <ranges>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,7 +32,9 @@ namespace secchi::bench {
 
 class EmbreeSpheres {
 public:
-    EmbreeSpheres(const std::vector<CompactRecord>& records, double radius)
+    /// records: a sized random-access range of CompactRecords (a store's records()).
+    template <std::ranges::random_access_range Records>
+    EmbreeSpheres(const Records& records, double radius)
         : device_(rtcNewDevice(nullptr)), radius_(static_cast<float>(radius)) {
         if (!device_) throw std::runtime_error("Embree: rtcNewDevice failed");
         if (!rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_POINT_GEOMETRY_SUPPORTED))
@@ -42,7 +45,7 @@ public:
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(spheres, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                                               4 * sizeof(float), records.size()));
         for (std::size_t i = 0; i < records.size(); ++i) {
-            const CompactRecord& r = records[i];
+            const CompactRecord r = records[i];
             v[4 * i] = r.x, v[4 * i + 1] = r.y, v[4 * i + 2] = r.z, v[4 * i + 3] = static_cast<float>(radius);
         }
         rtcSetGeometryIntersectFilterFunction(spheres, &count_and_reject);

@@ -134,7 +134,8 @@ void suite_build(const Options& o) {
         build_row<NanoflannStore<CompactRecord>>(o, "nanoflann", "compact", compact, reps);
         build_row<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(o, "VOI octree (packed records, the default)", "compact", compact, reps);
         build_row<VoiOctreeStore<CompactRecord, RecordLayout::plain>>(o, "VOI octree (plain records)", "compact", compact, reps);
-        build_row<VoiGridStore<CompactRecord>>(o, "VOI grid (cells for r = 0.05)", "compact", compact, reps, Radius(0.05));
+        build_row<VoiGridStore<CompactRecord, RecordLayout::packed>>(o, "VOI grid (cells for r = 0.05, packed records, the default)", "compact", compact, reps, Radius(0.05));
+        build_row<VoiGridStore<CompactRecord, RecordLayout::plain>>(o, "VOI grid (cells for r = 0.05, plain records)", "compact", compact, reps, Radius(0.05));
         const auto fullp = prefix(full, n);
         build_row<KdTreeStore<FullRecord>>(o, "k-d tree", "full", fullp, reps);
         build_row<NanoflannStore<FullRecord>>(o, "nanoflann", "full", fullp, reps);
@@ -290,19 +291,19 @@ void suite_collect(const Options& o) {
     }
     out(o, "");
 
-    {  // the octree's two record layouts (map/packed_records.hpp), the same map, paired
-        const auto plain = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::plain>>(first, scene);
-        const auto packed = photon_map<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(first, scene);
-        const auto per_photon = [&](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(first.records.size()); };
+    // The VOI stores' two record layouts (map/packed_records.hpp), the same map, paired: make(rc,
+    // layout tag) gives a store's photon map for the cylinder radius rc.
+    const auto layout_table = [&](const std::string& store, auto make_plain, auto make_packed) {
         const std::string by_default = default_record_layout<CompactRecord> == RecordLayout::packed ? "packed" : "plain";
-        out(o, "The VOI octree's record layouts on this map: packed (12 bytes per record) against plain (16-byte "
-               "CompactRecords); the default in this build: " + by_default + ". Bytes per photon (index included) " +
-                   fmt("%.2f", per_photon(packed.store().memory_bytes())) + " against " +
-                   fmt("%.2f", per_photon(plain.store().memory_bytes())) + ". **packed / plain** rays/s, "
-                   "paired as above, for the estimate and for the search only (counting visitor).\n");
-        out(o, "| r_c (m) | photons/ray | packed rays/s | **packed / plain**, estimate | **packed / plain**, search only |");
-        out(o, "|---|---|---|---|---|");
+        const auto per_photon = [&](std::size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(first.records.size()); };
+        out(o, "The " + store + "'s record layouts on this map: packed (12 bytes per record) against plain (16-byte "
+               "CompactRecords); the default in this build: " + by_default + ". Bytes per photon, index included. "
+               "**packed / plain** rays/s, paired as above, for the estimate and for the search only (counting visitor).\n");
+        out(o, "| r_c (m) | photons/ray | packed rays/s | bytes/photon, packed / plain | **packed / plain**, estimate | **packed / plain**, search only |");
+        out(o, "|---|---|---|---|---|---|");
         for (const double rc : {r, r * std::sqrt(k[2].photons_per_ray / v.photons_per_ray)}) {
+            const auto plain = make_plain(rc);
+            const auto packed = make_packed(rc);
             const auto packed_est = radiance_estimator(packed, VoiCylinder{}, cone, rc);
             const auto plain_est = radiance_estimator(plain, VoiCylinder{}, cone, rc);
             const auto c = collect(o, packed, VoiCylinder{}, cone, rays, rc);
@@ -310,12 +311,21 @@ void suite_collect(const Options& o) {
             const Timing search = paired_ratio(
                 o.repeats, [&] { search_only(1, plain.store(), VoiCylinder{}, rays, rc); },
                 [&] { search_only(1, packed.store(), VoiCylinder{}, rays, rc); });
-            out(o, "| " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " + rate_cell(c.t, nr) + " | **" +
-                       fmt("%.3g", estimate.median) + "** [" + fmt("%.3g", estimate.lo) + "-" + fmt("%.3g", estimate.hi) + "] | **" +
+            out(o, "| " + fmt("%.4f", rc) + " | " + fmt("%.4g", c.photons_per_ray) + " | " + rate_cell(c.t, nr) + " | " +
+                       fmt("%.2f", per_photon(packed.store().memory_bytes())) + " / " +
+                       fmt("%.2f", per_photon(plain.store().memory_bytes())) + " | **" + fmt("%.3g", estimate.median) +
+                       "** [" + fmt("%.3g", estimate.lo) + "-" + fmt("%.3g", estimate.hi) + "] | **" +
                        fmt("%.3g", search.median) + "** [" + fmt("%.3g", search.lo) + "-" + fmt("%.3g", search.hi) + "] |");
         }
         out(o, "");
-    }
+    };
+    layout_table(
+        "VOI octree", [&](double) { return photon_map<VoiOctreeStore<CompactRecord, RecordLayout::plain>>(first, scene); },
+        [&](double) { return photon_map<VoiOctreeStore<CompactRecord, RecordLayout::packed>>(first, scene); });
+    layout_table(
+        "VOI grid (cells for each r_c)",
+        [&](double rc) { return photon_map<VoiGridStore<CompactRecord, RecordLayout::plain>>(first, scene, Radius(rc)); },
+        [&](double rc) { return photon_map<VoiGridStore<CompactRecord, RecordLayout::packed>>(first, scene, Radius(rc)); });
 
     out(o, "The same cylinder radii r_c in the VOI grid (VoiGridStore, its cells sized for each r_c: columns r_c / 2 "
            "wide, r_c tall; built per row), against the same k-d tree estimates; **grid / k-d** paired as above.\n");

@@ -1,7 +1,8 @@
-// The photon stores (k-d tree, nanoflann, VOI octree) against the brute-force oracle.
+// The photon stores (k-d tree, nanoflann, VOI octree, VOI grid) against the brute-force oracle.
 #include <catch2/catch.hpp>
 #include "secchi/core/rng.hpp"
 #include "secchi/map/brute_force.hpp"
+#include "secchi/map/cell_offsets.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
 #include "secchi/map/voi_grid.hpp"
@@ -223,11 +224,14 @@ using PlainOctree = VoiOctreeStore<CompactRecord, RecordLayout::plain>;
 using PackedOctree = VoiOctreeStore<CompactRecord, RecordLayout::packed>;
 static_assert(PhotonStore<PlainOctree> && PhotonStore<PackedOctree>);
 static_assert(std::same_as<VoiOctreeStore<CompactRecord>, PackedOctree>);
+/// The grid's likewise (the default: packed; voi_grid.hpp).
+using PlainGrid = VoiGridStore<CompactRecord, RecordLayout::plain>;
+using PackedGrid = VoiGridStore<CompactRecord, RecordLayout::packed>;
+static_assert(std::same_as<VoiGridStore<CompactRecord>, PackedGrid>);
 
 #define SECCHI_ALL_STORES                                                                                          \
     KdTreeStore<CompactRecord>, KdTreeStore<FullRecord>, NanoflannStore<CompactRecord>, NanoflannStore<FullRecord>, \
-        PlainOctree, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,                           \
-        VoiGridStore<FullRecord>
+        PlainOctree, VoiOctreeStore<FullRecord>, PackedOctree, PlainGrid, PackedGrid, VoiGridStore<FullRecord>
 
 TEMPLATE_TEST_CASE("within and along report exactly the brute-force records", "[stores]", SECCHI_ALL_STORES) {
     using Record = typename TestType::record_type;
@@ -404,12 +408,13 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     const NanoflannStore<CompactRecord> nano(records);
     const PlainOctree octree(records);
     const PackedOctree packed(records);
-    const VoiGridStore<CompactRecord> grid(records, Radius(0.02));
+    const PackedGrid grid(records, Radius(0.02));
+    const PlainGrid plain_grid(records, Radius(0.02));
     WARN("bytes per photon: k-d tree " << per_photon(kd.memory_bytes()) << ", nanoflann " << per_photon(nano.memory_bytes())
                                        << ", VOI octree " << per_photon(octree.memory_bytes()) << " ("
                                        << octree.node_count() << " nodes), packed " << per_photon(packed.memory_bytes())
-                                       << ", VOI grid for r = 0.02 "
-                                       << per_photon(grid.memory_bytes()));
+                                       << ", VOI grid for r = 0.02 " << per_photon(grid.memory_bytes())
+                                       << " (plain records " << per_photon(plain_grid.memory_bytes()) << ")");
     REQUIRE(kd.memory_bytes() == n * sizeof(CompactRecord));  // the split axes live in the records
     REQUIRE(sizeof(CompactRecord) == 16);
     REQUIRE(nano.memory_bytes() > n * sizeof(CompactRecord));
@@ -417,13 +422,21 @@ TEST_CASE("memory per photon for 1e6 compact records", "[stores][memory]") {
     // Packed (packed_records.hpp): 12 bytes per record, frames and nodes within the other 4.
     REQUIRE(packed.memory_bytes() > n * 12);
     REQUIRE(packed.memory_bytes() <= n * 16);
-    // 4 bytes per cell, at most max_cells_per_record cells per record.
-    REQUIRE(grid.memory_bytes() <= n * (sizeof(CompactRecord) + 4 * VoiGridStore<CompactRecord>::max_cells_per_record) + 4);
+    // The grid's index (cell_offsets.hpp): 1.5 bytes per cell offset (whole blocks of 8) and at
+    // most 0.125 per record; at most max_cells_per_record cells per record (here 1.5: cells of
+    // 0.01 x 0.01 x 0.02 m in the 1 x 1 x 3 m box).
+    const auto cells = plain_grid.cells();
+    const double offsets = static_cast<double>(cells[0] * cells[1] * cells[2] + 1);
+    REQUIRE(offsets <= PlainGrid::max_cells_per_record * n + 2.0);
+    REQUIRE(per_photon(plain_grid.memory_bytes()) >= sizeof(CompactRecord) + 1.5 * offsets / n);
+    REQUIRE(per_photon(plain_grid.memory_bytes()) <= sizeof(CompactRecord) + 1.5 * (offsets + 7.0) / n + 0.125);
+    REQUIRE(grid.memory_bytes() > n * 12);
+    REQUIRE(grid.memory_bytes() <= n * 16);
 }
 
 TEMPLATE_TEST_CASE("concurrent queries from 2 threads match sequential ones", "[stores][threads]",
-                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, PlainOctree, PackedOctree,
-                   VoiGridStore<CompactRecord>) {
+                   KdTreeStore<CompactRecord>, NanoflannStore<CompactRecord>, PlainOctree, PackedOctree, PlainGrid,
+                   PackedGrid) {
     const TestType store(make_records<CompactRecord>(Layout::clustered, 20000, 81));
     const auto queries = make_queries(Layout::clustered, 100, 82);
     // Every hit of every query, in reporting order (the order is part of the contract).
@@ -541,12 +554,12 @@ TEMPLATE_TEST_CASE("VOI octree along reports in_cylinder's t and distance2 exact
 }
 
 TEMPLATE_TEST_CASE("VOI grid along reports in_cylinder's t and distance2 exactly, in record order", "[stores][grid]",
-                   FullRecord, CompactRecord) {
+                   VoiGridStore<FullRecord>, PlainGrid, PackedGrid) {
     // Columns of every length: one record per cell, a few dozen, and the whole map in one
     // cell (whose range ends at the last record, where the scan's padding must stop short).
-    const auto records = make_records<TestType>(Layout::uniform, 5037, 111);
+    const auto records = make_records<typename TestType::record_type>(Layout::uniform, 5037, 111);
     for (const double width : {0.02, 0.1, 0.3, 5.0})
-        require_in_cylinder_values(VoiGridStore<TestType>(records, width, 2.0 * width), exact_value_queries(),
+        require_in_cylinder_values(TestType(records, width, 2.0 * width), exact_value_queries(),
                                    "column width " + std::to_string(width));
 }
 
@@ -568,7 +581,7 @@ struct RunCollector {
 static_assert(ChunkCollector<RunCollector> && !ChunkCollector<CollectAll>);
 
 TEMPLATE_TEST_CASE("the VOI stores pass runs of hits to a ChunkCollector: the same hits, in order", "[stores]",
-                   PlainOctree, VoiOctreeStore<FullRecord>, PackedOctree, VoiGridStore<CompactRecord>,
+                   PlainOctree, VoiOctreeStore<FullRecord>, PackedOctree, PlainGrid, PackedGrid,
                    VoiGridStore<FullRecord>) {
     const TestType store(make_records<typename TestType::record_type>(Layout::uniform, 20000, 68));
     std::size_t runs = 0, stopped = 0;
@@ -903,4 +916,80 @@ TEST_CASE("the packed octree splits leaves too large for one frame, and agrees w
         REQUIRE(compare(run_within(packed, q), run_within(brute, q)) == "");
         REQUIRE(compare(run_along(packed, q), run_along(brute, q)) == "");
     }
+}
+
+TEST_CASE("the packed grid frames runs of its order, and agrees with brute force over tens of metres",
+          "[stores][packed][grid]") {
+    // 3000 records spread over 60 m on each axis around (100, -50, -30), columns of 0.5 m: the
+    // grid's order puts records metres apart next to each other, so its frames are short runs
+    // (some far from the origin, where floats are coarser than the records' grid near it).
+    PhotonRng rng(141, 0);
+    std::vector<CompactRecord> records;
+    for (int i = 0; i < 3000; ++i)
+        records.push_back(CompactRecord::make(vec3(100.0, -50.0, -30.0) + 60.0 * vec3(rng.uniform(), rng.uniform(), rng.uniform()),
+                                              random_unit(rng), 0, static_cast<std::uint8_t>(i % 8)));
+    const PackedGrid packed(records, 0.5, 0.5);
+    const PlainGrid plain(records, 0.5, 0.5);
+    REQUIRE(contents(packed.records()) == contents(plain.records()));  // the same records, in the same order
+    for (std::size_t i = 0; i < records.size(); ++i) REQUIRE(std::bit_cast<std::array<std::uint32_t, 4>>(packed.records()[i]) ==
+                                                               std::bit_cast<std::array<std::uint32_t, 4>>(plain.records()[i]));
+    const BruteForceStore<CompactRecord> brute(records);
+    for (int i = 0; i < 50; ++i) {
+        const vec3 p = vec3(100.0, -50.0, -30.0) + 60.0 * vec3(rng.uniform(), rng.uniform(), rng.uniform());
+        const Query q{p, Ray{p, random_unit(rng), 60.0 * rng.uniform()}, 10.0 * rng.uniform()};
+        REQUIRE(compare(run_within(packed, q), run_within(brute, q)) == "");
+        REQUIRE(compare(run_along(packed, q), run_along(brute, q)) == "");
+    }
+    // greedy_frames: every frame's box is fine, and the record after a frame would not fit in it.
+    std::vector<CompactRecord> ordered(plain.records().begin(), plain.records().end());
+    const auto begins = PackedRecords::greedy_frames(ordered);
+    REQUIRE(begins.size() > 10);
+    REQUIRE(begins.front() == 0);
+    for (std::size_t f = 0; f < begins.size(); ++f) {
+        const std::uint32_t end = f + 1 < begins.size() ? begins[f + 1] : static_cast<std::uint32_t>(ordered.size());
+        std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+        const auto extend = [&](const CompactRecord& r) {
+            const std::array<float, 3> c{r.x, r.y, r.z};
+            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k]);
+        };
+        for (std::uint32_t i = begins[f]; i < end; ++i) extend(ordered[i]);
+        REQUIRE(PackedRecords::is_fine(lo, hi));
+        if (end == ordered.size()) continue;
+        extend(ordered[end]);
+        REQUIRE_FALSE(PackedRecords::is_fine(lo, hi));
+    }
+}
+
+TEST_CASE("CellOffsets reads back every entry, in its byte blocks and its wide ones", "[stores][grid]") {
+    // Random non-decreasing sequences: runs of empty cells, cells of a few records, and cells
+    // of hundreds to millions (wide blocks), of every length modulo the block.
+    PhotonRng rng(151, 0);
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::size_t n = 1 + rng.bits() % 3000;
+        const int kind = static_cast<int>(rng.bits() % 3);
+        std::vector<std::uint32_t> entries(n);
+        std::uint64_t total = 0, wide_records = 0;
+        for (std::size_t c = 0; c < n; ++c) {
+            entries[c] = static_cast<std::uint32_t>(total);
+            const std::uint64_t draw = rng.bits();
+            const std::uint64_t count = draw % 4 == 0 ? 0 : kind == 0 ? draw % 40 : kind == 1 ? draw % 300 : draw % 2000000;
+            total += count;
+        }
+        if (total > 0xffffffffu) continue;
+        const CellOffsets offsets(entries);
+        REQUIRE(offsets.size() == n);
+        for (std::size_t c = 0; c < n; ++c) REQUIRE(offsets[c] == entries[c]);
+        // The bound: 1.5 bytes per entry of whole blocks, 32 bytes per wide block, each of
+        // which spans at least 256 records.
+        for (std::size_t b = 0; b * CellOffsets::block < n; ++b) {
+            const std::size_t last = std::min(n, (b + 1) * CellOffsets::block) - 1;
+            if (entries[last] - entries[b * CellOffsets::block] > 255) wide_records += entries[last] - entries[b * CellOffsets::block];
+        }
+        const std::size_t blocks = (n + CellOffsets::block - 1) / CellOffsets::block;
+        REQUIRE(offsets.memory_bytes() == blocks * (CellOffsets::block + 4) + offsets.wide_blocks() * 4 * CellOffsets::block);
+        REQUIRE(static_cast<double>(offsets.wide_blocks()) * 256.0 <= static_cast<double>(wide_records));
+        if (kind == 0) REQUIRE(offsets.wide_blocks() == 0);  // 7 cells of < 40 records: bytes
+    }
+    const std::vector<std::uint32_t> decreasing{0, 5, 4};
+    REQUIRE_THROWS_WITH(CellOffsets(decreasing), Catch::Contains("cell offset") && Catch::Contains("2"));
 }

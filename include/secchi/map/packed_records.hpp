@@ -25,7 +25,8 @@
 // and its queries report the hits, with the values, that a store of plain CompactRecords
 // reports (in another order within a leaf split into frames; tests/test_stores.cpp).
 //
-// Reading record i finds its frame from a table of the first frame of each block of 256
+// A frame is kept in 20 bytes (three float origins, three exponents of the steps, its first
+// record). Reading record i finds its frame from a table of the first frame of each block of 256
 // records (frames are runs of consecutive records, so the frame is that one or a few after it);
 // the leaf scan goes through a run frame by frame (for_each_frame), reading the words in place.
 #include "secchi/core/config.hpp"
@@ -47,6 +48,14 @@ namespace secchi::SECCHI_ISA {
 
 /// How a store keeps its records: a std::vector of them, or PackedRecords (CompactRecord only).
 enum class RecordLayout { plain, packed };
+
+/// The VOI stores' default record layout: packed for CompactRecords (12 bytes per record
+/// instead of 16; the estimate runs at about the plain layout's rate, faster where the target
+/// has the leaf scan's SIMD kernels, cylinder_scan.hpp, a little slower with the portable
+/// loops), plain for other records. Rates and bytes: BENCHMARKS.md.
+template <class Record>
+inline constexpr RecordLayout default_record_layout =
+    std::same_as<Record, CompactRecord> ? RecordLayout::packed : RecordLayout::plain;
 
 class PackedRecords {
 public:
@@ -99,6 +108,26 @@ public:
         return true;
     }
 
+    /// The frames of records in a store's order, where the store has no boxes of its own to
+    /// frame (the VOI grid): maximal runs of consecutive records whose box is fine, each begun
+    /// where the next record would make the run's box too large. Returns their begins.
+    static std::vector<std::uint32_t> greedy_frames(const std::vector<CompactRecord>& records) {
+        std::vector<std::uint32_t> begins;
+        std::array<float, 3> lo{}, hi{};
+        for (std::uint32_t i = 0; i < records.size(); ++i) {
+            const std::array<float, 3> p{records[i].x, records[i].y, records[i].z};
+            std::array<float, 3> l = lo, h = hi;
+            for (int k = 0; k < 3; ++k) l[k] = std::min(l[k], p[k]), h[k] = std::max(h[k], p[k]);
+            if (!begins.empty() && ((l == lo && h == hi) || fits(l, h))) {
+                lo = l, hi = h;
+                continue;
+            }
+            begins.push_back(i);
+            lo = p, hi = p;
+        }
+        return begins;
+    }
+
     PackedRecords() = default;
 
     /// records (in the store's order) in frames that begin at frame_begins (increasing, the
@@ -115,10 +144,11 @@ public:
             const std::uint32_t begin = frame_begins[f];
             const std::uint32_t end = f + 1 < frame_begins.size() ? frame_begins[f + 1] : size_;
             require(begin < end && end <= size_, "packed record frame", begin, "must be a non-empty run of the records");
-            frames_.push_back(make_frame(records, begin, end));
-            for (std::uint32_t i = begin; i < end; ++i) pack(records[i], frames_.back(), i);
+            const Frame frame = make_frame(records, begin, end);
+            frames_.push_back(KeptFrame::keep(frame));
+            for (std::uint32_t i = begin; i < end; ++i) pack(records[i], frame, i);
         }
-        frames_.push_back(Frame{{}, size_});  // sentinel: frame_of's search stops at it
+        frames_.push_back(KeptFrame{{}, size_, {}});  // sentinel: frame_of's search stops at it
         block_frame_.resize((std::size_t{size_} + block - 1) / block);
         std::uint32_t f = 0;
         for (std::size_t b = 0; b < block_frame_.size(); ++b) {
@@ -131,14 +161,14 @@ public:
     [[nodiscard]] bool empty() const { return size_ == 0; }
     [[nodiscard]] std::size_t memory_bytes() const {
         return codes_.capacity() * sizeof(std::uint64_t) + attributes_.capacity() * sizeof(Attributes) +
-               frames_.capacity() * sizeof(Frame) + block_frame_.capacity() * sizeof(std::uint32_t);
+               frames_.capacity() * sizeof(KeptFrame) + block_frame_.capacity() * sizeof(std::uint32_t);
     }
 
     /// Record i as a CompactRecord: its position read back, its other bytes as stored.
     [[nodiscard]] CompactRecord operator[](std::uint32_t i) const {
         const Attributes a = attributes_[i];
         CompactRecord r{0.0f, 0.0f, 0.0f, a.theta, a.phi, a.band, a.batch};
-        read_position(codes_[i], frames_[frame_of(i)], r);
+        read_position(codes_[i], frames_[frame_of(i)].frame(), r);
         return r;
     }
 
@@ -200,7 +230,7 @@ public:
     void for_each_frame(std::uint32_t begin, std::uint32_t end, Visit&& visit) const {
         for (std::uint32_t f = frame_of(begin); begin < end; ++f) {
             const std::uint32_t stop = std::min(end, frames_[f + 1].begin);
-            visit(begin, stop, frames_[f]);
+            visit(begin, stop, frames_[f].frame());
             begin = stop;
         }
     }
@@ -233,6 +263,36 @@ public:
 
 private:
     static constexpr std::uint32_t block = 256;  ///< records per entry of block_frame_
+
+    /// is_fine(lo, hi), with a shortcut: on an axis where hi - lo <= (2^21 - 2) position_grid,
+    /// axis_frame's step is at most position_grid (its origin lies less than one step below lo,
+    /// so hi - origin < (2^21 - 1) step at step = position_grid). The bound below keeps one more
+    /// step, for the rounding of the difference.
+    static bool fits(const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
+        constexpr double narrow = (max_code - 2) * position_grid;
+        bool narrow_box = true;
+        for (int k = 0; k < 3; ++k) narrow_box = narrow_box && static_cast<double>(hi[k]) - lo[k] <= narrow;
+        return narrow_box || is_fine(lo, hi);
+    }
+
+    /// A frame as kept: its steps (powers of two) as exponents, 20 bytes instead of Frame's 28.
+    struct KeptFrame {
+        std::array<float, 3> origin;
+        std::uint32_t begin;
+        std::array<std::int8_t, 3> exponent;  ///< step = 2^exponent, exponent in [-126, 127]
+
+        static KeptFrame keep(const Frame& f) {
+            KeptFrame k{{f.axis[0].origin, f.axis[1].origin, f.axis[2].origin}, f.begin, {}};
+            for (int a = 0; a < 3; ++a) k.exponent[a] = static_cast<std::int8_t>(std::ilogb(f.axis[a].step));
+            return k;
+        }
+        [[nodiscard]] Frame frame() const {
+            // 2^e as a normal float: its biased exponent e + 127 in bits 23-30
+            const auto step = [](int e) { return std::bit_cast<float>(static_cast<std::uint32_t>(e + 127) << 23); };
+            return {{Axis{origin[0], step(exponent[0])}, Axis{origin[1], step(exponent[1])}, Axis{origin[2], step(exponent[2])}}, begin};
+        }
+    };
+    static_assert(sizeof(KeptFrame) == 20);
 
     struct Attributes {
         std::uint8_t theta, phi, band, batch;
@@ -284,7 +344,7 @@ private:
     std::uint32_t size_ = 0;
     std::vector<std::uint64_t> codes_;       ///< positions, 21 bits per axis
     std::vector<Attributes> attributes_;     ///< theta, phi, band, batch (with the store's tag bits)
-    std::vector<Frame> frames_;              ///< in record order, then a sentinel at size_
+    std::vector<KeptFrame> frames_;          ///< in record order, then a sentinel at size_
     std::vector<std::uint32_t> block_frame_; ///< the frame holding record b * block
 };
 

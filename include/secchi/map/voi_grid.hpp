@@ -8,7 +8,7 @@
 // and `cell_height` tall in z. The records are sorted by cell (a stable counting sort) with
 // z the fastest index, so that each column's records are one contiguous run in depth order
 // and any run of its cells is one contiguous range of records(); `offsets` holds where each
-// cell's records begin (one 32-bit word per cell). A point's cell along an axis is
+// cell's records begin (CellOffsets, cell_offsets.hpp: about 1.5 bytes per cell). A point's cell along an axis is
 // floor((v - lo) / width), clamped to the grid: a monotone function of v, so the cells of a
 // query interval [a, b] are exactly those from a's cell to b's, with no rounding margin.
 //
@@ -35,32 +35,47 @@
 //  - slanted rays cut more columns, each over a shorter range (rays of length 1 at 30-85
 //    degrees from the vertical: 160-200 ranges, 2.7-3 records tested per hit): 2.1-2.9
 //    times the octree's search rate.
-// Memory: the records, plus 4 bytes per cell; the grid is limited to max_cells_per_record
-// cells per record (the widths grow by a common factor if needed).
+// Memory: the records, plus about 1.5 bytes per cell (CellOffsets); the grid is limited to
+// max_cells_per_record cells per record (the widths grow by a common factor if needed), so the
+// index costs at most about 3.1 bytes per record.
+//
+// Record layout (the Layout parameter; default_record_layout, packed_records.hpp): plain keeps a
+// std::vector of the records; RecordLayout::packed (CompactRecord only, the default for it)
+// keeps them in 12 bytes, 21-bit coordinates within frames that are maximal runs of the grid
+// order (PackedRecords::greedy_frames: a column's records over up to 2 m of depth, or several
+// neighbouring columns'). The records read back exactly, in the same order, so both layouts
+// report the same hits with the same values; the leaf scan reads the packed words in place.
 //
 // within(p, r): the columns within r of p, the cells within r of p.z, each record's distance.
 //
 // Threading contract: build once (the constructor); afterwards every const member may be
 // called from any number of threads at once.
 #include "secchi/core/config.hpp"
+#include "secchi/map/cell_offsets.hpp"
+#include "secchi/map/packed_records.hpp"
 #include "secchi/map/range_scan.hpp"
 #include "secchi/map/search_support.hpp"
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 namespace secchi::SECCHI_ISA {
 
-template <PhotonRecord Record>
+template <PhotonRecord Record, RecordLayout Layout = default_record_layout<Record>>
 class VoiGridStore {
+    static constexpr bool is_packed = Layout == RecordLayout::packed;
+    static_assert(!is_packed || std::same_as<Record, CompactRecord>, "only CompactRecords pack (packed_records.hpp)");
+
 public:
     using record_type = Record;
     /// Without a column width, cells hold this many records on average over the bounding box.
     static constexpr double default_records_per_cell = 16.0;
-    /// At most this many cells per record (4 bytes each): wider cells beyond it.
+    /// At most this many cells per record (CellOffsets: about 1.5 bytes each): wider cells beyond it.
     static constexpr double max_cells_per_record = 2.0;
 
     /// `column_width`: the cells' size in x and y (m); 0 for a width from the records'
@@ -87,11 +102,15 @@ public:
         : VoiGridStore(std::move(records), column_width_per_radius * collection_radius.value(),
                        cell_height_per_radius * collection_radius.value()) {}
 
-    [[nodiscard]] std::size_t size() const { return records_.size(); }
-    /// The records in grid order (by column, then depth); Hit::index refers to it.
-    [[nodiscard]] const std::vector<Record>& records() const { return records_; }
+    [[nodiscard]] std::size_t size() const { return stored().size(); }
+    /// The records in grid order (by column, then depth); Hit::index refers to it. Packed: a
+    /// range of CompactRecord values, their positions as read back (packed_records.hpp).
+    [[nodiscard]] decltype(auto) records() const {
+        if constexpr (is_packed) return packed_.view();
+        else return (records_);
+    }
     [[nodiscard]] std::size_t memory_bytes() const {
-        return records_.capacity() * sizeof(Record) + offsets_.capacity() * sizeof(std::uint32_t);
+        return records_.capacity() * sizeof(Record) + packed_.memory_bytes() + offsets_.memory_bytes();
     }
     /// Cells per axis (x, y, z) and their size (m).
     [[nodiscard]] std::array<std::size_t, 3> cells() const { return count_; }
@@ -103,8 +122,8 @@ public:
     bool along(const Ray& ray_in, Radius r, C& collect) const {
         const Ray ray = ray_in;  // a local copy: the collector's writes cannot alias it
         const double r2 = r.squared();
-        const detail::CylinderRanges<std::vector<Record>> ranges(records_);
-        typename detail::CylinderRanges<std::vector<Record>>::WorkList work;
+        const detail::CylinderRanges<Storage> ranges(stored());
+        typename detail::CylinderRanges<Storage>::WorkList work;
         bool complete = true;
         for_each_column_range(ray, detail::pruning_pad(ray, r2), [&](std::uint32_t begin, std::uint32_t end) {
             work.items[work.size++] = {begin, end, false};
@@ -146,7 +165,7 @@ public:
         const Ray point{p, {0.0, 0.0, 0.0}, 0.0};
         return for_each_column_range(point, pad, [&](std::uint32_t begin, std::uint32_t end) {
             for (std::uint32_t i = begin; i < end; ++i) {
-                const vec3 d = records_[i].position() - p;
+                const vec3 d = stored()[i].position() - p;
                 const double d2 = glm::dot(d, d);
                 if (d2 <= r2 && !collect(Hit{i, 0.0, d2})) return false;
             }
@@ -155,12 +174,19 @@ public:
     }
 
 private:
+    /// Where the records live after the build: records_, or packed_ (then records_ is empty).
+    using Storage = std::conditional_t<is_packed, PackedRecords, std::vector<Record>>;
+    [[nodiscard]] const Storage& stored() const {
+        if constexpr (is_packed) return packed_;
+        else return records_;
+    }
+
     /// Calls visit(begin, end) for the record range of every column that points within `pad`
     /// of the segment [origin, origin + t_max direction] may lie in, in column order (x
     /// outer, y inner), skipping empty ranges; stops and returns false when visit does.
     template <class Visit>
     bool for_each_column_range(const Ray& ray, double pad, Visit&& visit) const {
-        if (records_.empty()) return true;
+        if (size() == 0) return true;
         const vec3 a = ray.origin, b = ray.origin + ray.t_max * ray.direction;
         // The rounding of a cell's bounds (lo + i width) against the index function: far
         // below this margin, which keeps the column tests conservative.
@@ -262,6 +288,10 @@ private:
         for (int a = 0; a < 3; ++a)
             count_[a] = static_cast<std::size_t>(std::max(1.0, std::ceil(extent[a] / size[a])));
         sort_by_cell();
+        if constexpr (is_packed) {
+            packed_ = PackedRecords(records_, PackedRecords::greedy_frames(records_));
+            records_ = std::vector<Record>();  // (not `= {}`: that keeps the capacity)
+        }
     }
 
     /// The width that puts default_records_per_cell records in a cell on average over the
@@ -278,27 +308,29 @@ private:
     /// A stable counting sort of the records by cell; offsets_[c] is cell c's first record.
     void sort_by_cell() {
         const std::size_t cells = count_[0] * count_[1] * count_[2];
-        offsets_.assign(cells + 1, 0);
+        std::vector<std::uint32_t> offsets(cells + 1, 0);
         std::vector<std::uint32_t> cell_of(records_.size());
         for (std::size_t i = 0; i < records_.size(); ++i) {
             cell_of[i] = static_cast<std::uint32_t>(cell_index(records_[i].position()));
-            ++offsets_[cell_of[i] + 1];
+            ++offsets[cell_of[i] + 1];
         }
-        for (std::size_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
-        std::vector<std::uint32_t> cursor(offsets_.begin(), offsets_.end() - 1);
+        for (std::size_t c = 0; c < cells; ++c) offsets[c + 1] += offsets[c];
+        std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
         std::vector<Record> sorted(records_.size());
         for (std::size_t i = 0; i < records_.size(); ++i) sorted[cursor[cell_of[i]]++] = records_[i];
         records_.swap(sorted);
+        offsets_ = CellOffsets(offsets);
     }
 
-    std::vector<Record> records_;         ///< in grid order
-    std::vector<std::uint32_t> offsets_;  ///< cells + 1 entries: cell c's records are [offsets_[c], offsets_[c + 1])
+    std::vector<Record> records_;  ///< in grid order (packed: only while building)
+    PackedRecords packed_;         ///< packed: the records in grid order
+    CellOffsets offsets_;          ///< cells + 1 entries: cell c's records are [offsets_[c], offsets_[c + 1])
     vec3 lo_{0.0}, hi_{0.0};              ///< the records' bounding box
     vec3 size_{1.0};                      ///< a cell's size per axis (m)
     std::array<std::size_t, 3> count_{1, 1, 1};  ///< cells per axis
 };
 
-static_assert(PhotonStore<VoiGridStore<CompactRecord>>);
+static_assert(PhotonStore<VoiGridStore<CompactRecord>> && PhotonStore<VoiGridStore<CompactRecord, RecordLayout::plain>>);
 static_assert(PhotonStore<VoiGridStore<FullRecord>>);
 
 }  // namespace secchi

@@ -16,7 +16,7 @@
 // child_count), no pointers. Each node stores the tight bounding box of its records in float,
 // rounded outward so it still contains every double position.
 //
-// Record layout (the Layout parameter; default_record_layout below): RecordLayout::plain keeps a
+// Record layout (the Layout parameter; default_record_layout, packed_records.hpp): plain keeps a
 // std::vector of the records. RecordLayout::packed (CompactRecord only, packed_records.hpp)
 // keeps them in 12 bytes, 21-bit coordinates within frames: a leaf's records, or where the
 // leaf's box is too large for one frame, its records sorted by sub-octant within the leaf's
@@ -103,14 +103,6 @@ inline float float_above(double v) {
 }
 
 }  // namespace detail
-
-/// The octree's default record layout: packed for CompactRecords (12 bytes per record instead
-/// of 16; the octree's estimate runs at 1.02-1.13 times the plain layout's rate where the
-/// target has the leaf scan's SIMD kernels, cylinder_scan.hpp, and at 0.92-1.03 times with the
-/// portable loops), plain for other records. Rates and bytes: BENCHMARKS.md.
-template <class Record>
-inline constexpr RecordLayout default_record_layout =
-    std::same_as<Record, CompactRecord> ? RecordLayout::packed : RecordLayout::plain;
 
 template <PhotonRecord Record, RecordLayout Layout = default_record_layout<Record>>
 class VoiOctreeStore {
