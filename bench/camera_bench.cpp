@@ -65,7 +65,8 @@ int main(int argc, char** argv) {
         const Radius radius(0.05);
         auto first = trace_photon_map<VoiGridStore<CompactRecord>>(water, cfg, radius);
         const auto& grid = first.map;
-        const std::vector<CompactRecord>& records = grid.store().records();
+        const auto grid_records = grid.store().records();  // (packed: a range of values)
+        const std::vector<CompactRecord> records(grid_records.begin(), grid_records.end());
         const PhotonMap octree(VoiOctreeStore<CompactRecord>(records), grid.flux(), grid.batches(), grid.scene(), grid.bottom_ed());
         const PhotonMap kd(KdTreeStore<CompactRecord>(records), grid.flux(), grid.batches(), grid.scene(), grid.bottom_ed());
 

@@ -8,9 +8,10 @@
 // and `cell_height` tall in z. The records are sorted by cell (a stable counting sort) with
 // z the fastest index, so that each column's records are one contiguous run in depth order
 // and any run of its cells is one contiguous range of records(); `offsets` holds where each
-// cell's records begin (CellOffsets, cell_offsets.hpp: about 1.5 bytes per cell). A point's cell along an axis is
-// floor((v - lo) / width), clamped to the grid: a monotone function of v, so the cells of a
-// query interval [a, b] are exactly those from a's cell to b's, with no rounding margin.
+// cell's records begin (CellOffsets, cell_offsets.hpp: about 1.5 bytes per cell). A point's
+// cell along an axis is floor((v - lo) / width), clamped to the grid: a monotone function of
+// v, so the cells of a query interval [a, b] are exactly those from a's cell to b's, with no
+// rounding margin.
 //
 // along(ray, r): the columns the cylinder can reach are those whose square, padded by r (and
 // detail::pruning_pad's rounding margin), the segment's projection meets; a column is
