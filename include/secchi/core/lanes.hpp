@@ -26,7 +26,8 @@
     !(defined(__clang__) && defined(__AVX512F__))
 // GCC 12's AVX-512 intrinsics (included through <experimental/simd>) warn about their own
 // deliberately undefined vectors (GCC bug 105593, fixed in GCC 13); the warnings point into
-// those headers, so they are silenced where the headers are read.
+// those headers, so they are silenced where the headers are read, and where the intrinsics are
+// inlined: the lanes namespace below.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
@@ -53,6 +54,11 @@
 #include <immintrin.h>
 #endif
 
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 namespace secchi::SECCHI_ISA::lanes {
 
 namespace stdx = std::experimental;
@@ -377,5 +383,8 @@ using Vec3 = Vec3Of<Reals>;
 using Vec3F = Vec3Of<Floats>;
 
 }  // namespace secchi::lanes
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 #endif
