@@ -39,10 +39,13 @@
 // one part and starts the next (the value is carried over, not recomputed from the next
 // triangle), so the samples along the ray form one sequence, and a ray above the terrain at
 // one sample and on or below it at the next enters the solid in between: it cannot slip
-// through a shared edge or vertex between two triangles (watertight). The first part whose
-// triangle is entered from its front side (g1 < 0) with g going from > 0 to <= 0 (or starting
-// at 0: on the terrain) holds the closest hit, at t = -g0 / g1 on that triangle's plane
-// (clamped to the part: it is within it but for rounding). Vertical rays (d_x = d_y = 0) make
+// through a shared edge or vertex between two triangles (watertight). The first part where g
+// goes from > 0 to <= 0, or that starts at 0 (on the terrain) on a triangle the ray enters
+// from its front side (g1 < 0), holds the closest hit, at t = -g0 / g1 on that triangle's plane
+// (clamped to the part: it is within it but for rounding). The sign change alone decides: on a
+// plane nearly parallel to the ray the rounded samples may fall while the rounded slope g1 is
+// >= 0 (as with fused multiply-adds, -ffp-contract=fast on a target with FMA), and the hit is
+// then at the part's end. Vertical rays (d_x = d_y = 0) make
 // one part in the one cell under them; level rays (d_z = 0) are at the terrain's depths along
 // their whole chord of the column, or never.
 // Tolerance: where the walk starts (the origin, or where the ray enters the column or the
@@ -179,10 +182,10 @@ public:
                 const double tm = 0.5 * (ta + tb);
                 const Line g = along(i, j, o, d, tm);  // the plane of the triangle under this part
                 const double gb = g.at(tb);
-                // Entering the solid through the triangle's front side in [ta, tb]: from above
-                // (or on it) at ta to on it or below at tb.
-                if (g.g1 < 0.0 && (ga == 0.0 || (ga > 0.0 && gb <= 0.0))) {
-                    const double t = ga == 0.0 ? ta : std::clamp(-g.g0 / g.g1, ta, tb);
+                // Entering the solid in [ta, tb]: from above at ta to on the terrain or below it
+                // at tb, or from on it at ta through the triangle's front side.
+                if ((ga > 0.0 && gb <= 0.0) || (ga == 0.0 && g.g1 < 0.0)) {
+                    const double t = ga == 0.0 ? ta : (g.g1 < 0.0 ? std::clamp(-g.g0 / g.g1, ta, tb) : tb);
                     if (!(t < t_max)) return std::nullopt;
                     return ObjectHit{t, o + d * t, g.normal(dx_, dy_), 0};
                 }
