@@ -992,4 +992,6 @@ TEST_CASE("CellOffsets reads back every entry, in its byte blocks and its wide o
     }
     const std::vector<std::uint32_t> decreasing{0, 5, 4};
     REQUIRE_THROWS_WITH(CellOffsets(decreasing), Catch::Contains("cell offset") && Catch::Contains("2"));
+    const std::vector<std::uint32_t> across_blocks{0, 1, 2, 3, 4, 5, 6, 7, 6};  // the fall at a block's first entry
+    REQUIRE_THROWS_WITH(CellOffsets(across_blocks), Catch::Contains("cell offset") && Catch::Contains("8"));
 }

@@ -35,7 +35,7 @@ public:
         bytes_.assign(blocks * block, 0);
         for (std::size_t b = 0; b < blocks; ++b) {
             const std::size_t first = b * block, last = std::min(entries.size(), first + block);
-            for (std::size_t c = first + 1; c < last; ++c)
+            for (std::size_t c = std::max<std::size_t>(first, 1); c < last; ++c)
                 require(entries[c] >= entries[c - 1], "cell offset", c, "must not be below the previous cell's");
             if (entries[last - 1] - entries[first] <= max_delta) {
                 base_[b] = entries[first];
