@@ -3,6 +3,7 @@
 // split into B batches by photon index; the estimate is the mean of the batch means and its
 // standard error is their sample standard deviation / sqrt(B) (design notes; B >= 16).
 #include "secchi/core/config.hpp"
+#include "secchi/core/math.hpp"
 #include <cmath>
 #include <span>
 
@@ -23,7 +24,7 @@ inline Estimate batch_estimate(std::span<const double> batch_values) {
     mean /= n;
     if (batch_values.size() < 2) return {mean, INFINITY};
     double ss = 0.0;
-    for (double v : batch_values) ss += (v - mean) * (v - mean);
+    for (double v : batch_values) ss = mul_add(v - mean, v - mean, ss);
     return {mean, std::sqrt(ss / (n - 1.0) / n)};
 }
 
@@ -39,7 +40,7 @@ inline Estimate jackknife_estimate(double value, std::span<const double> leave_o
     for (double v : leave_one_out) mean += v;
     mean /= n;
     double ss = 0.0;
-    for (double v : leave_one_out) ss += (v - mean) * (v - mean);
+    for (double v : leave_one_out) ss = mul_add(v - mean, v - mean, ss);
     return {value, std::sqrt((n - 1.0) / n * ss)};
 }
 

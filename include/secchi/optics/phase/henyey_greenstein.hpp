@@ -20,9 +20,11 @@ public:
     }
 
     /// 1 + g^2 - 2 g mu written as (1 - g)^2 + 2 g (1 - mu): no cancellation near the peak.
+    /// Its sums are mul_adds (core/math.hpp), so that every compilation rounds it alike (a
+    /// typed mixture and AnyPhaseFunction's, bit for bit, where multiply-adds fuse too).
     double eval(double cos_psi) const {
-        const double d = (1.0 - g_) * (1.0 - g_) + 2.0 * g_ * (1.0 - cos_psi);
-        return (1.0 - g_ * g_) / (four_pi * d * std::sqrt(d));
+        const double d = mul_add(2.0 * g_, 1.0 - cos_psi, (1.0 - g_) * (1.0 - g_));
+        return mul_add(-g_, g_, 1.0) / (four_pi * d * std::sqrt(d));
     }
     double pdf(double cos_psi) const { return eval(cos_psi); }
 
