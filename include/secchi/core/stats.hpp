@@ -15,7 +15,9 @@ struct Estimate {
     [[nodiscard]] double relative_se() const { return value != 0.0 ? se / std::abs(value) : INFINITY; }
 };
 
-/// Mean and standard error of independent, identically distributed batch estimates.
+/// Mean and standard error of independent, identically distributed batch estimates. The sum
+/// of squares by mul_add (core/math.hpp), so that every program rounds it alike (the Python
+/// module's SE is the slab program's, bit for bit, in a build for an FMA machine too).
 inline Estimate batch_estimate(std::span<const double> batch_values) {
     const double n = static_cast<double>(batch_values.size());
     if (batch_values.empty()) return {};
