@@ -300,6 +300,12 @@ Estimate quantity_of(const DepthResult& d, std::string_view q) {
     return d.lu;
 }
 
+/// The particle phase function --petzold chooses (default petzold): a reading of M93 Table 2.
+TabulatedPhase particle_phase(const CommandLine& cl) {
+    return std::get<TabulatedPhase>(parse_phase_among<TabulatedPhase>(
+        "--petzold", cl.text("petzold", "petzold"), "petzold, petzold-trapezoid or petzold-linear"));
+}
+
 /// run(water) with problem 3's water at 500 nm: the material file's (a run-time model:
 /// StratifiedWater<AnyPhaseFunction>) or the composed model's, which keeps its phase types
 /// (StratifiedWater<RayleighPhase, TabulatedPhase>: no variant per scattering event), sampled
@@ -310,11 +316,7 @@ auto with_problem3_water(const CommandLine& cl, Run&& run) {
     const double wl = conformance::problem3_wavelength_nm;
     if (cl.has("material") || cl.has("material-entry"))
         return run(iop::stratify(io::read_iop_model_from_options(cl), wl, depths));
-    const std::string name = cl.text("petzold", "petzold");
-    const AnyPhase particle = parse_phase(name);
-    if (!std::holds_alternative<TabulatedPhase>(particle))
-        reject("--petzold", name, "must be petzold, petzold-trapezoid or petzold-linear");
-    return run(iop::stratify_typed(conformance::problem3_model(std::get<TabulatedPhase>(particle)), wl, depths));
+    return run(iop::stratify_typed(conformance::problem3_model(particle_phase(cl)), wl, depths));
 }
 
 /// z, C-free IOPs a, b, c, w0 every metre from 0 to 60 m (the manual's Fig. 7.30 as data).
@@ -337,8 +339,13 @@ PlaneParallelResult solve(const ProblemSpec& p, const CommandLine& cl, const Pla
             if (profile_csv) write_profile_csv(water, *profile_csv);
             return solve_stratified(water, cfg);
         });
-    const std::string phase = p.phase == "petzold" ? cl.text("petzold", "petzold") : p.phase;
-    return std::visit([&](const auto& ph) { return solve_plane_parallel(ph, cfg); }, parse_phase(phase));
+    // The problems' phase functions are Rayleigh's (problem 1) and a reading of Petzold's: the
+    // simulation is instantiated for these two types, not for every model parse_phase knows.
+    using ProblemPhase = std::variant<RayleighPhase, TabulatedPhase>;
+    const ProblemPhase phase = p.phase == "petzold"
+                                   ? ProblemPhase(particle_phase(cl))
+                                   : parse_phase_among<RayleighPhase, TabulatedPhase>("phase", p.phase, "rayleigh or petzold");
+    return std::visit([&](const auto& ph) { return solve_plane_parallel(ph, cfg); }, phase);
 }
 
 /// Ed(0+) and Eu(0+) just above the surface, in the source's units (problem 4: per unit E_perp
@@ -666,7 +673,7 @@ int main(int argc, char** argv) {
             const auto cfg = config_for(p, cl, quick);
             cfg.transport.validate();
             (void)detail::source_of(cfg);
-            if (p.phase == "petzold") (void)parse_phase(cl.text("petzold", "petzold"));
+            if (p.phase == "petzold") (void)particle_phase(cl);
             if (p.id == "3") with_problem3_water(cl, [](const auto&) { return 0; });
         }
         const auto t0 = std::chrono::steady_clock::now();

@@ -59,7 +59,10 @@ PlaneParallelResult run_case(const test::DisortCase& c, Budget budget, DepthImpo
     cfg.transport.backscatter_bias = backscatter_bias;
     cfg.transport.upward_importance = upward_importance;  // lobe: the default g = 0.9
     cfg.store = StoreKind::voi_grid;
-    return std::visit([&](const auto& p) { return solve_plane_parallel(p, cfg); }, parse_phase(std::string(c.phase)));
+    // The DISORT cases' phase functions only (each type instantiates the whole simulation).
+    return std::visit([&](const auto& p) { return solve_plane_parallel(p, cfg); },
+                      parse_phase_among<IsotropicPhase, RayleighPhase, HenyeyGreensteinPhase>(
+                          "phase", std::string(c.phase), "isotropic, rayleigh or hg:G"));
 }
 
 /// |ours - exact| <= 4 SE + the reference's accuracy.

@@ -311,4 +311,14 @@ TEST_CASE("AnyPhase holds every phase model and is itself a PhaseFunction") {
     CHECK(std::get<HenyeyGreensteinPhase>(parse_phase("hg:0.3")).g() == 0.3);
     CHECK_THAT(input_error_message([] { parse_phase("schlick:x"); }), Contains("phase schlick:K"));
     CHECK_THAT(input_error_message([] { parse_phase("mie"); }), Contains("invalid phase = mie"));
+    // A narrower choice: the named model if it is one of the listed types, else an error naming
+    // the option, the value and what it may be; a misspelling is parse_phase's error.
+    using Two = std::variant<RayleighPhase, HenyeyGreensteinPhase>;
+    const Two hg = parse_phase_among<RayleighPhase, HenyeyGreensteinPhase>("--p", "hg:0.4", "rayleigh or hg:G");
+    CHECK(std::get<HenyeyGreensteinPhase>(hg).g() == 0.4);
+    CHECK(std::holds_alternative<RayleighPhase>(parse_phase_among<RayleighPhase, HenyeyGreensteinPhase>("--p", "rayleigh", "")));
+    CHECK_THAT(input_error_message([] { parse_phase_among<RayleighPhase>("--p", "petzold", "rayleigh"); }),
+               Contains("invalid --p = petzold: must be rayleigh"));
+    CHECK_THAT(input_error_message([] { parse_phase_among<RayleighPhase>("--p", "mie", "rayleigh"); }),
+               Contains("invalid phase = mie"));
 }

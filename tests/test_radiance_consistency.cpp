@@ -69,7 +69,7 @@ void check_case(const Case& c) {
                 }
             }
         },
-        parse_phase(c.phase));
+        parse_phase_among<RayleighPhase, TabulatedPhase>("phase", c.phase, "rayleigh or petzold"));
 }
 }  // namespace
 

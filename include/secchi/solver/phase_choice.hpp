@@ -11,7 +11,10 @@
 #include "secchi/optics/phase/phase_names.hpp"
 #include <algorithm>
 #include <charconv>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <variant>
 
 namespace secchi::SECCHI_ISA {
@@ -56,6 +59,23 @@ inline AnyPhase parse_phase(const std::string& spec) {
         reject("phase", spec, has_parameter ? std::string(model->naming.name).append(" takes no parameter")
                                             : std::string("needs its parameter: ").append(cli_spelling(*model)));
     return model->on_command_line(has_parameter ? detail::phase_parameter(spec, colon, *model) : 0.0);
+}
+
+/// parse_phase(spec) as one of Phases only: a program that simulates a few phase types visits
+/// this narrower variant, so that its simulation is instantiated for those types alone (each
+/// alternative of AnyPhase instantiates the whole first and second pass). input_error naming
+/// `parameter`, spec and `allowed` when spec names another model.
+template <class... Phases>
+std::variant<Phases...> parse_phase_among(std::string_view parameter, const std::string& spec, std::string_view allowed) {
+    AnyPhase any = parse_phase(spec);
+    std::optional<std::variant<Phases...>> chosen;
+    std::visit(
+        [&]<class P>(P& phase) {
+            if constexpr ((std::is_same_v<P, Phases> || ...)) chosen.emplace(std::in_place_type<P>, std::move(phase));
+        },
+        any);
+    if (!chosen) reject(parameter, spec, std::string("must be ").append(allowed));
+    return std::move(*chosen);
 }
 
 }  // namespace secchi
