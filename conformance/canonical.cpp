@@ -72,7 +72,7 @@ problem uses its default budget (see the table printed at the start), times --bu
 (default 1; at least 1000 photons). --exr (default
 photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 --petzold petzold|petzold-trapezoid|petzold-linear chooses the particle phase function of
-problems 2a, 2b, 3, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
+problems 2a, 2b, 3, 4, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
 p linear in angle, p(0.1 deg) below 0.1 deg; the others are M93's power-law readings, for
 showing the sensitivity: canonical_problems.md, problem 2).
 --tracer {tracers} (default photon): lanes traces problems 1a, 1b, 2a, 2b, 4, 5 and 6 with
@@ -88,6 +88,9 @@ C(1) = 0.346, and Kd_bar = ln(100)/z1% against Kirk 1994 at each k. Outside that
 manual's Henyey-Greenstein case (mean cosine 0.8, a = 0.1, b = 0.9 /m, no interface): z1% and
 R(0) scored against an exact discrete-ordinate solution within 4 SE, z1% reported beside Kirk
 1994 (19.94 m), Kirk 1991 and DIRSIG (19.3 m). --photons sets each Kirk run's photons.
+An option that changes only some problems (--exr, --profile-csv, --material, --petzold,
+--tracer, --facets, --aerosol-*) is refused when --problem includes none of them, and
+--upward-lobe without --upward-importance.
 )";
 
 /// A problem and the default photon budget that meets the scoring bar.
@@ -628,6 +631,30 @@ void print_kirk_entries(const std::vector<Entry>& entries) {
     }
 }
 
+/// An option that changes only some problems is refused when --problem (`which`) includes none
+/// of them, and --upward-lobe without --upward-importance: either would change nothing.
+template <class Wanted>
+void reject_options_without_effect(const CommandLine& cl, const std::string& which, const Wanted& wanted) {
+    struct ForProblems {
+        const char* option;
+        std::vector<std::string> problems;
+    };
+    const std::vector<ForProblems> table = {
+        {"exr", {"2a"}}, {"profile-csv", {"3"}}, {"material", {"3"}}, {"material-entry", {"3"}},
+        {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "4", "5", "6"}},
+        {"facets", {"5"}}, {"aerosol-g", {"4"}}, {"aerosol-albedo", {"4"}}, {"aerosol-scale-height", {"4"}}};
+    for (const auto& [option, ids] : table) {
+        if (!cl.has(option) || std::any_of(ids.begin(), ids.end(), wanted)) continue;
+        std::string list;
+        for (std::size_t i = 0; i < ids.size(); ++i) list.append(i == 0 ? "" : i + 1 == ids.size() ? " or " : ", ").append(ids[i]);
+        reject(std::string("--").append(option), cl.text(option),
+               std::string(ids.size() > 1 ? "changes only problems " : "changes only problem ") + list + ", which --problem " +
+                   which + " does not include");
+    }
+    if (cl.has("upward-lobe") && !(cl.number("upward-importance", 0.0) > 0.0))
+        reject("--upward-lobe", cl.text("upward-lobe"), "changes nothing without --upward-importance > 0");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -655,6 +682,7 @@ int main(int argc, char** argv) {
         const auto wanted = [&](const std::string& id) {
             return std::any_of(chosen.begin(), chosen.end(), [&](const std::string& c) { return c == "all" || c == id; });
         };
+        reject_options_without_effect(cl, which, wanted);
         const bool quick = cl.has("quick");
         const std::string json = cl.text("json");
         const std::string exr =

@@ -229,6 +229,15 @@ CASES = [
     ("canonical", "--problem 1a --store voi --json {tmp}/no/such/c.json", ["--json"], ["{tmp}/no/such/c.json"]),
     ("canonical", "--problem 2a --store voi --json {tmp}/c.json --exr {tmp}/dir", ["--exr", "{tmp}/dir"], ["{tmp}/c.json"]),
     ("canonical", "--problem 3 --store voi --json {tmp}/c.json --profile-csv {tmp}/no/p.csv", ["--profile-csv"], ["{tmp}/c.json"]),
+    # An option that would change none of the problems run.
+    ("canonical", "--problem 1a --store voi --json {tmp}/c.json --exr {tmp}/m.exr", ["--exr", "only problem 2a", "--problem 1a"],
+     ["{tmp}/c.json", "{tmp}/m.exr"]),
+    ("canonical", "--problem 1a,2a --store voi --material {tmp}/bad_type.mat", ["--material", "only problem 3", "1a,2a"], []),
+    ("canonical", "--problem 1b --store voi --petzold petzold-linear", ["--petzold", "problems 2a, 2b, 3, 4, 5 or 6"], []),
+    ("canonical", "--problem 3 --store voi --tracer lanes", ["--tracer", "--problem 3 does not include"], []),
+    ("canonical", "--problem 2a --store voi --facets redraw", ["--facets", "only problem 5"], []),
+    ("canonical", "--problem kirk --aerosol-g 0.5", ["--aerosol-g", "only problem 4"], []),
+    ("canonical", "--problem 1a --store voi --upward-lobe 0.5", ["--upward-lobe", "--upward-importance"], []),
     ("canonical", "--problem 1a --store voi --photons 0 --json {tmp}/c.json", ["photons", "0"], ["{tmp}/c.json", "{tmp}/photon_map_2a.exr"]),
 ]
 
