@@ -652,7 +652,7 @@ void reject_options_without_effect(const CommandLine& cl, const std::string& whi
                    which + " does not include");
     }
     if (cl.has("upward-lobe") && !(cl.number("upward-importance", 0.0) > 0.0))
-        reject("--upward-lobe", cl.text("upward-lobe"), "changes nothing without --upward-importance > 0");
+        reject("--upward-lobe", cl.text("upward-lobe"), "needs --upward-importance > 0");
 }
 
 }  // namespace

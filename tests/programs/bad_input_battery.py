@@ -99,6 +99,9 @@ CASES = [
     ("slab", "--source moon", ["source", "moon"], []),
     ("slab", "--facets weighted", ["facets", "weighted"], []),
     ("slab", "--shadowing partial", ["shadowing", "partial"], []),
+    ("slab", "--facets redraw", ["--facets", "needs --wind or --slope-variance"], []),
+    ("slab", "--shadowing smith", ["--shadowing", "needs --wind or --slope-variance"], []),
+    ("slab", "--upward-lobe 0.5", ["--upward-lobe", "needs --upward-importance"], []),
     ("slab", "--cone-peak sharp", ["cone", "sharp"], []),
     ("slab", "--source atmosphere --aerosol-g 1", ["aerosol", "1"], []),
     ("slab", "--source atmosphere --aerosol-albedo 1.5", ["aerosol", "1.5"], []),
@@ -237,7 +240,7 @@ CASES = [
     ("canonical", "--problem 3 --store voi --tracer lanes", ["--tracer", "--problem 3 does not include"], []),
     ("canonical", "--problem 2a --store voi --facets redraw", ["--facets", "only problem 5"], []),
     ("canonical", "--problem kirk --aerosol-g 0.5", ["--aerosol-g", "only problem 4"], []),
-    ("canonical", "--problem 1a --store voi --upward-lobe 0.5", ["--upward-lobe", "--upward-importance"], []),
+    ("canonical", "--problem 1a --store voi --upward-lobe 0.5", ["--upward-lobe", "needs --upward-importance"], []),
     ("canonical", "--problem 1a --store voi --photons 0 --json {tmp}/c.json", ["photons", "0"], ["{tmp}/c.json", "{tmp}/photon_map_2a.exr"]),
 ]
 
