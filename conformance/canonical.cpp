@@ -75,7 +75,7 @@ photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 problems 2a, 2b, 3, 4, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
 p linear in angle, p(0.1 deg) below 0.1 deg; the others are M93's power-law readings, for
 showing the sensitivity: canonical_problems.md, problem 2).
---tracer {tracers} (default photon): lanes traces problems 1a, 1b, 2a, 2b, 4, 5 and 6 with
+--tracer {tracers} (default photon): lanes traces problems 1a, 1b, 2a, 2b, 4, 5, 6 and kirk with
 LaneTracer (photons in SIMD lanes of doubles, with their depth importance and 2b's backscatter
 bias), lanes-float in lanes of floats; problem 3's stratified water is always traced by
 PhotonTracer.
@@ -641,7 +641,7 @@ void reject_options_without_effect(const CommandLine& cl, const std::string& whi
     };
     const std::vector<ForProblems> table = {
         {"exr", {"2a"}}, {"profile-csv", {"3"}}, {"material", {"3"}}, {"material-entry", {"3"}},
-        {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "4", "5", "6"}},
+        {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "4", "5", "6", "kirk"}},
         {"facets", {"5"}}, {"aerosol-g", {"4"}}, {"aerosol-albedo", {"4"}}, {"aerosol-scale-height", {"4"}}};
     for (const auto& [option, ids] : table) {
         if (!cl.has(option) || std::any_of(ids.begin(), ids.end(), wanted)) continue;
