@@ -89,8 +89,9 @@ manual's Henyey-Greenstein case (mean cosine 0.8, a = 0.1, b = 0.9 /m, no interf
 R(0) scored against an exact discrete-ordinate solution within 4 SE, z1% reported beside Kirk
 1994 (19.94 m), Kirk 1991 and DIRSIG (19.3 m). --photons sets each Kirk run's photons.
 An option that changes only some problems (--exr, --profile-csv, --material, --petzold,
---tracer, --facets, --aerosol-*) is refused when --problem includes none of them, and
---upward-lobe without --upward-importance.
+--tracer, --facets, --aerosol-*; --budget-scale, --importance-cosine, --backscatter-bias and
+--upward-importance change Table 5's problems, not kirk) is refused when --problem includes
+none of them, and --upward-lobe without --upward-importance.
 )";
 
 /// A problem and the default photon budget that meets the scoring bar.
@@ -639,10 +640,14 @@ void reject_options_without_effect(const CommandLine& cl, const std::string& whi
         const char* option;
         std::vector<std::string> problems;
     };
+    const std::vector<std::string> table5 = {"1a", "1b", "2a", "2b", "3", "4", "5", "6"};
     const std::vector<ForProblems> table = {
         {"exr", {"2a"}}, {"profile-csv", {"3"}}, {"material", {"3"}}, {"material-entry", {"3"}},
         {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "4", "5", "6", "kirk"}},
-        {"facets", {"5"}}, {"aerosol-g", {"4"}}, {"aerosol-albedo", {"4"}}, {"aerosol-scale-height", {"4"}}};
+        {"facets", {"5"}}, {"aerosol-g", {"4"}}, {"aerosol-albedo", {"4"}}, {"aerosol-scale-height", {"4"}},
+        // Table 5's problems, not Kirk's runs (whose budget is --photons alone).
+        {"budget-scale", table5}, {"importance-cosine", table5}, {"backscatter-bias", table5},
+        {"upward-importance", table5}};
     for (const auto& [option, ids] : table) {
         if (!cl.has(option) || std::any_of(ids.begin(), ids.end(), wanted)) continue;
         std::string list;
