@@ -131,9 +131,8 @@ inline secchi::PlaneParallelConfig config_from(const secchi::CommandLine& cl) {
     cfg.slopes = facet_slopes(cl);
     cfg.facets = secchi::parse_facets(cl.text("facets", "projected-area"));
     cfg.shadowing = secchi::parse_shadowing(cl.text("shadowing", "none"));
-    const bool flat = cfg.slopes.upwind == 0.0 && cfg.slopes.crosswind == 0.0;  // as solve_plane_parallel tells
     for (const char* option : {"facets", "shadowing"})  // the facets' options: nothing to change on a flat surface
-        if (cl.has(option) && flat) secchi::reject(std::string("--") + option, cl.text(option), "needs --wind or --slope-variance");
+        if (cl.has(option) && cfg.slopes.flat()) secchi::reject(std::string("--") + option, cl.text(option), "needs --wind or --slope-variance");
     if (cl.has("bottom-depth"))
         cfg.bottom = secchi::Bottom::lambertian_at(cl.number("bottom-depth", 0), cl.number("bottom-albedo", 0.0));
     else if (cl.has("bottom-albedo"))

@@ -103,6 +103,8 @@ struct FacetSlopes {
         return {0.00316 * u, 0.003 + 0.00192 * u, azimuth_deg};
     }
     [[nodiscard]] double mean_square_slope() const { return upwind + crosswind; }
+    /// No slopes: a flat surface (FlatSurface), which no facet option changes.
+    [[nodiscard]] bool flat() const { return upwind == 0.0 && crosswind == 0.0; }
 
 private:
     static double valid_wind(double u) {

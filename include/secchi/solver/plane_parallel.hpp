@@ -237,7 +237,7 @@ template <PhotonRecord Record, Medium M, class Split = SingleProcess>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnySource& source,
                                    const PlaneParallelConfig& cfg, const Split& split = {}) {
     const double n = water_index_of(medium, cfg);
-    if (cfg.slopes.upwind != 0.0 || cfg.slopes.crosswind != 0.0)
+    if (!cfg.slopes.flat())
         return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets, 1.0, cfg.shadowing), source, cfg, split);
     return first_pass_through<Record>(medium, slab, FlatSurface(n), source, cfg, split);
 }
@@ -308,7 +308,7 @@ FirstPass<Record> run_first_pass(const M& medium, PlaneParallelConfig cfg,
     const AnySource source = source_of(cfg);
     auto tr = first_pass<Record>(medium, slab, source, cfg, split);
     MapScene scene{slab, std::nullopt, SkyLight::of(source)};
-    if (cfg.slopes.upwind == 0.0 && cfg.slopes.crosswind == 0.0) scene.flat_surface = FlatSurface(water_index_of(medium, cfg));
+    if (cfg.slopes.flat()) scene.flat_surface = FlatSurface(water_index_of(medium, cfg));
 
     PlaneParallelResult out;
     out.above = tr.above;
