@@ -80,7 +80,7 @@ LaneTracer (photons in SIMD lanes of doubles, with their depth importance and 2b
 bias), lanes-float in lanes of floats; problem 3's stratified water is always traced by
 PhotonTracer.
 --problem kirk (also in all) checks the first pass against Kirk's AOP relations
-(canonical_problems.md section 7, manual 7.5; no photon map, so --store is not needed for it
+(canonical_problems.md section 7, manual 7.5; no photon map, so --store is not taken for it
 alone): sun at nadir, level surface, canonical Petzold, a = 1 /m, b for k = b_b/(a + b_b) =
 0.005 to 0.15 (b/a 0.27 to 9.6). Scored within +-5 % (no source states the fits' accuracy):
 the least-squares slope through the origin of R(0) = Eu(0)/Ed(0) on k against Kirk's
@@ -89,8 +89,8 @@ manual's Henyey-Greenstein case (mean cosine 0.8, a = 0.1, b = 0.9 /m, no interf
 R(0) scored against an exact discrete-ordinate solution within 4 SE, z1% reported beside Kirk
 1994 (19.94 m), Kirk 1991 and DIRSIG (19.3 m). --photons sets each Kirk run's photons.
 An option that changes only some problems (--exr, --profile-csv, --material, --petzold,
---tracer, --facets, --aerosol-*; --budget-scale, --importance-cosine, --backscatter-bias and
---upward-importance change Table 5's problems, not kirk) is refused when --problem includes
+--tracer, --facets, --aerosol-*; --store, --budget-scale, --importance-cosine, --backscatter-bias
+and --upward-importance change Table 5's problems, not kirk) is refused when --problem includes
 none of them, and --upward-lobe without --upward-importance.
 )";
 
@@ -645,8 +645,9 @@ void reject_options_without_effect(const CommandLine& cl, const std::string& whi
         {"exr", {"2a"}}, {"profile-csv", {"3"}}, {"material", {"3"}}, {"material-entry", {"3"}},
         {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "4", "5", "6", "kirk"}},
         {"facets", {"5"}}, {"aerosol-g", {"4"}}, {"aerosol-albedo", {"4"}}, {"aerosol-scale-height", {"4"}},
-        // Table 5's problems, not Kirk's runs (whose budget is --photons alone).
-        {"budget-scale", table5}, {"importance-cosine", table5}, {"backscatter-bias", table5},
+        // Table 5's problems, not Kirk's runs (whose budget is --photons alone, and which trace
+        // the first pass only: no photon map, so no store).
+        {"store", table5}, {"budget-scale", table5}, {"importance-cosine", table5}, {"backscatter-bias", table5},
         {"upward-importance", table5}};
     for (const auto& [option, ids] : table) {
         if (!cl.has(option) || std::any_of(ids.begin(), ids.end(), wanted)) continue;

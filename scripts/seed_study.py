@@ -209,11 +209,14 @@ def run_seeds(args, label):
         if args.resume and os.path.exists(path):
             print(f"seed {seed}: kept {path}")
             continue
-        cmd = [args.canonical, "--problem", args.problems, "--store", args.store, "--seed", str(seed),
-               "--threads", str(args.threads), "--json", path]
-        # The outputs of problems 2a and 3, where the study runs them (canonical refuses an
-        # option that changes none of the problems it runs).
+        cmd = [args.canonical, "--problem", args.problems, "--seed", str(seed), "--threads", str(args.threads),
+               "--json", path]
+        # The store, and the outputs of problems 2a and 3, where the study runs problems they
+        # change (canonical refuses an option that changes none of the problems it runs: Kirk's
+        # runs build no photon map).
         chosen = args.problems.split(",")
+        if any(p != "kirk" for p in chosen):
+            cmd += ["--store", args.store]
         if "all" in chosen or "2a" in chosen:
             cmd += ["--exr", os.path.join(args.out, f"photon_map_2a_{label}.exr")]
         if "all" in chosen or "3" in chosen:

@@ -241,6 +241,7 @@ CASES = [
     ("canonical", "--problem 2a --store voi --facets redraw", ["--facets", "only problem 5"], []),
     ("canonical", "--problem kirk --aerosol-g 0.5", ["--aerosol-g", "only problem 4"], []),
     ("canonical", "--problem kirk --budget-scale 2", ["--budget-scale", "--problem kirk does not include"], []),
+    ("canonical", "--problem kirk --store voi", ["--store", "--problem kirk does not include"], []),
     ("canonical", "--problem 1a --store voi --upward-lobe 0.5", ["--upward-lobe", "needs --upward-importance"], []),
     ("canonical", "--problem 1a --store voi --photons 0 --json {tmp}/c.json", ["photons", "0"], ["{tmp}/c.json", "{tmp}/photon_map_2a.exr"]),
 ]
