@@ -98,7 +98,7 @@ public:
         if (!(t < t_max)) return std::nullopt;
         return ObjectHit{t, o + d * t, n, rh.hit.geomID};
     }
-    [[nodiscard]] ObjectMaterial material(std::uint32_t index) const { return scene_->meshes[index].material; }
+    [[nodiscard]] const ObjectMaterial& material(std::uint32_t index) const { return scene_->meshes[index].material; }
     [[nodiscard]] Bounds bounds() const { return bounds_; }
     /// "Embree 3.13.5": the version secchi was compiled against.
     static std::string version() {

@@ -12,7 +12,8 @@
 //                                  the incoming ray, dot(normal, d) <= 0, and material index).
 //                                  A ray starting on an object's surface and moving into the
 //                                  solid hits it at t = 0; one moving out of it does not.
-//   material(index)                the ObjectMaterial of that index
+//   material(index)                the ObjectMaterial of that index (a value, or a reference
+//                                  valid while the geometry is)
 //   bounds()                       a box holding every object (empty(): no object)
 // The objects are given in one horizontal period of the water body, the section [0, W) x
 // [0, W) of the slab (scene/slab.hpp), whose periodic copies fill the horizontally infinite

@@ -204,7 +204,7 @@ public:
         return std::nullopt;
     }
 
-    [[nodiscard]] ObjectMaterial material(std::uint32_t) const { return material_; }
+    [[nodiscard]] const ObjectMaterial& material(std::uint32_t) const { return material_; }
     [[nodiscard]] Bounds bounds() const { return {{0.0, 0.0, min_h_}, {width_, width_, floor_depth_}}; }
 
 private:

@@ -151,7 +151,7 @@ public:
         }
         return best;
     }
-    [[nodiscard]] ObjectMaterial material(std::uint32_t index) const { return materials_[index]; }
+    [[nodiscard]] const ObjectMaterial& material(std::uint32_t index) const { return materials_[index]; }
     [[nodiscard]] Bounds bounds() const { return bounds_; }
 
 private:

@@ -425,7 +425,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// and one more with probability frac(w), so that records keep their equal flux.
     /// False if the photon ends.
     bool reflect_at_object(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, const ObjectHit& hit) const {
-        const ObjectMaterial material = geometry_.material(hit.material);
+        const ObjectMaterial& material = geometry_.material(hit.material);  // (a reference: no copy of the map's shared_ptr per hit)
         const double diffuse = material.albedo_at(hit.point), albedo = diffuse + material.specular;
         if (albedo == 0.0) {
             ledger.absorbed_objects += p.w;
