@@ -6,7 +6,9 @@
 // independent maps' estimates about the truth); where the shape varies slowly (horizontal rays
 // in three waters) it agrees with a 4 times larger per-band run; where the shape varies fast
 // (a 0.45 m cylinder across a steep gradient of one band) it carries the documented bias; bad
-// radii and one-band maps are refused. Tolerances fixed before the runs.
+// radii and one-band maps are refused; the cylinder's one search for every band and both radii
+// (manual 3.5.2.3) gives the per-band searches' sums on random rays. Tolerances fixed before
+// the runs.
 #include <catch2/catch.hpp>
 #include "secchi/estimate/spectral_compensation.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -101,6 +103,59 @@ TEST_CASE("Spectral compensation with r_spectral = r_core is the per-band estima
     const Ray ray{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, INFINITY};
     const std::vector<Estimate> one = est.radiance(ray);
     for (unsigned k = 0; k < 3; ++k) CHECK(one[k].value == Approx(est.core().radiance(ray, k).value).epsilon(1e-12));
+}
+
+TEST_CASE("One search for every band and both radii gives the sums of the per-band searches (manual 3.5.2.3)") {
+    // Property test: random rays (in the water and from the air, any direction, finite or
+    // unbounded, across the periodic section's seams, up to the surface with its internal
+    // reflection and down to a Lambertian bottom), a map of three waters whose segments end at
+    // different lengths. SpectralCompensationEstimator's one search per segment (VoiCylinder's
+    // gather_nested) against the definition, made here from the per-band estimators at each
+    // radius (2 x 3 searches per segment): the same compensated values, SEs and photon counts;
+    // the sums may differ only in their order (images across a seam), so within 1e-12.
+    const auto waters = three_waters();
+    PlaneParallelConfig cfg = config(51, 20000);
+    cfg.bottom = Bottom::lambertian_at(3.0, 0.3);
+    const auto run = trace_spectral_map<Store>(waters, {450.0, 550.0, 650.0}, cfg, Radius(r_core));
+    const VoiCylinder volume(0.0, 3.0);
+    for (const double spectral_radius : {r_core, 0.12}) {
+        const SpectralCompensationEstimator est(run.map, volume, optics_of(waters), SpectralCompensation{r_core, spectral_radius});
+        PhotonRng rng(61, 0);
+        for (int i = 0; i < 60; ++i) {
+            const double cos_theta = 2.0 * rng.uniform() - 1.0, phi = 2.0 * pi * rng.uniform();
+            const vec3 d(sin_from_cos(cos_theta) * std::cos(phi), sin_from_cos(cos_theta) * std::sin(phi), cos_theta);
+            const double z = i % 5 == 0 ? -0.05 : 0.02 + 2.9 * rng.uniform();
+            const Ray ray{{rng.uniform(), rng.uniform(), z}, d, i % 3 == 0 ? INFINITY : 0.1 + 4.0 * rng.uniform()};
+            CompensatedSum one_search = est.empty_sum(), per_band = est.empty_sum();
+            est.add(ray, 1.0, one_search);
+            std::vector<RadianceSum> at_core(3, RadianceSum(run.map.batches())), at_spectral(3, RadianceSum(run.map.batches()));
+            for (unsigned k = 0; k < 3; ++k) {
+                est.core().add(ray, k, 1.0, at_core[k]);
+                est.spectral().add(ray, k, 1.0, at_spectral[k]);
+            }
+            per_band.add_ray(at_core, at_spectral, 1.0);
+            INFO("ray " << i << " from (" << ray.origin.x << ", " << ray.origin.y << ", " << ray.origin.z << ") along ("
+                        << d.x << ", " << d.y << ", " << d.z << "), t_max " << ray.t_max << ", r_spectral " << spectral_radius);
+            CHECK(one_search.photons_touched() == per_band.photons_touched());
+            for (unsigned k = 0; k < 3; ++k) {
+                const Estimate a = one_search.estimate(k), b = per_band.estimate(k);
+                CHECK(a.value == Approx(b.value).epsilon(1e-12).margin(1e-300));
+                CHECK(a.se == Approx(b.se).epsilon(1e-9).margin(1e-300));
+            }
+        }
+    }
+}
+
+TEST_CASE("Spectral compensation with step spheres: the per-band searches") {
+    // StepSpheres cannot share one search among bands (its spheres follow each segment's
+    // length): the estimator searches per band and radius. r_spectral = r_core is the per-band
+    // estimate, as with the cylinder.
+    const auto waters = three_waters();
+    const auto run = trace_spectral_map<Store>(waters, {450.0, 550.0, 650.0}, config(71, 10000), Radius(r_core));
+    const SpectralCompensationEstimator est(run.map, StepSpheres(16), optics_of(waters), SpectralCompensation{r_core, r_core});
+    const std::vector<Estimate> compensated = est.average(nadir(1.0, 3), 2);
+    for (unsigned k = 0; k < 3; ++k)
+        CHECK(compensated[k].value == Approx(est.core().average(nadir(1.0, 3), k, 2).value).epsilon(1e-12));
 }
 
 TEST_CASE("Bands of one light field: the compensated estimate agrees with the per-band one, with a smaller SE") {

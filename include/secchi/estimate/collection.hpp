@@ -14,7 +14,9 @@
 //    The segment is meant to lie in the water; where a photon's point on the axis does not, the
 //    cross-section is taken at the plane it has crossed, so that no weight grows without bound.
 // Each calls visit(record index, distance along the ray, weight); VoiCylinder passes the
-// stores' runs of hits whole to a visitor that takes them (ChunkVisitor).
+// stores' runs of hits whole to a visitor that takes them (ChunkVisitor). VoiCylinder also
+// gathers two coaxial cylinders in one search (gather_nested: the spectral compensation's
+// reuse of its core search, manual 3.5.2.3).
 // Each volume gathers around a ray inside the store's section, gather(store, ray, r, visit),
 // and around any ray in a periodic section, gather(store, ray, r, section, visit) (periodic_ray.hpp:
 // the unwrapped ray's volume from the section's photons and their images; distances along the
@@ -52,6 +54,21 @@ concept CollectionVolume = requires(const V v, const BruteForceStore<CompactReco
     { v.gather(s, ray, r, section, visit) };
     { v.name() } -> std::convertible_to<std::string>;
 };
+
+/// The visitor signature of gather_nested: (record index, distance along the ray, weight in
+/// the outer volume, weight in the inner one or 0 outside it).
+struct NestedVisitorArchetype {
+    void operator()(std::uint32_t, double, double, double) const {}
+};
+
+/// A collection volume that gathers itself at two radii in one search: the photons of the
+/// outer volume, each with its weight there and in the inner one (0 where it lies outside).
+template <class V>
+concept NestedCollectionVolume =
+    CollectionVolume<V> && requires(const V v, const BruteForceStore<CompactRecord>& s, Ray ray, Radius r,
+                                    PeriodicSection section, NestedVisitorArchetype visit) {
+        { v.gather_nested(s, ray, r, r, section, visit) };
+    };
 
 /// Volume of the part of a sphere (centre depth zc, radius r) between depths top and bottom.
 inline double sphere_volume_in_slab(double zc, double r, double top, double bottom) {
@@ -156,10 +173,7 @@ public:
     void gather(const Store& store, const Ray& ray, Radius r, Visit&& visit) const {
         if (reaches_boundary(ray, r.value())) {
             auto collect = [&](const Hit& h) {
-                // The cross-section at the photon's point on the axis, taken at the plane where
-                // that point lies beyond it (a segment that leaves the water).
-                const double zc = std::clamp(ray.origin.z + h.t * ray.direction.z, top_, bottom_);
-                visit(h.index, h.t, 1.0 / disk_area_in_slab(zc, ray.direction.z, r.value(), top_, bottom_));
+                visit(h.index, h.t, cut_weight(ray, h.t, r));
                 return true;
             };
             store.along(ray, r, collect);
@@ -193,7 +207,41 @@ public:
         });
     }
 
+    /// The cylinders of radius `outer` and `inner` (<= outer) of any ray in a periodic section,
+    /// in one search (manual 3.5.2.3: "reuse the results from the original, core search" for
+    /// the spectral one): visit(index, t, w_outer, w_inner) for every photon image of the outer
+    /// cylinder, w_inner 0 where it lies outside the inner one. Each cylinder's photons,
+    /// distances and weights are those gather() finds at its radius (the inner test is
+    /// in_cylinder's, on the distance the store reports; the images of the inner cylinder are
+    /// among the outer one's), in the outer search's order.
+    template <class Store, class Visit>
+    void gather_nested(const Store& store, const Ray& ray, Radius outer, Radius inner, const PeriodicSection& section,
+                       Visit&& visit) const {
+        require(inner.value() <= outer.value(), "inner radius (m)", inner.value(),
+                "must not exceed the outer radius (" + std::to_string(outer.value()) + " m)");
+        section.for_each_piece_image(ray, outer.value(), [&](const Ray& query, double t0) {
+            const bool cut_outer = reaches_boundary(query, outer.value()), cut_inner = reaches_boundary(query, inner.value());
+            const double inner2 = inner.squared(), uncut_outer = 1.0 / (pi * outer.squared()),
+                         uncut_inner = 1.0 / (pi * inner.squared());
+            auto collect = [&](const Hit& h) {
+                const double w_outer = cut_outer ? cut_weight(query, h.t, outer) : uncut_outer;
+                const double w_inner = h.distance2 > inner2 ? 0.0 : cut_inner ? cut_weight(query, h.t, inner) : uncut_inner;
+                visit(h.index, t0 == 0.0 ? h.t : t0 + h.t, w_outer, w_inner);
+                return true;
+            };
+            store.along(query, outer, collect);
+        });
+    }
+
 private:
+    /// A photon's weight where the cylinder of radius r is cut by the water's planes: 1 / the
+    /// cross-section at the photon's point t on the axis, taken at the plane where that point
+    /// lies beyond it (a segment that leaves the water).
+    [[nodiscard]] double cut_weight(const Ray& ray, double t, Radius r) const {
+        const double zc = std::clamp(ray.origin.z + t * ray.direction.z, top_, bottom_);
+        return 1.0 / disk_area_in_slab(zc, ray.direction.z, r.value(), top_, bottom_);
+    }
+
     /// Whether the cylinder's cross-section is cut by the top or bottom plane somewhere along
     /// the segment: the disks reach r sin(theta) above and below the segment's depths.
     [[nodiscard]] bool reaches_boundary(const Ray& ray, double r) const {

@@ -310,6 +310,43 @@ public:
         return accumulate_ray(ray, batch_sums, band);
     }
 
+    /// accumulate() for every band at once and at two radii, from one search (the spectral
+    /// compensation's reuse of its core search, manual 3.5.2.3): along `ray`, band k's photons
+    /// with t <= lengths[k] (each band's own segment, a prefix of the ray; ray.t_max the
+    /// longest) add to outer_sums[k * batches + batch] as accumulate() at this estimator's
+    /// radius would over that segment, and those inside the coaxial cylinder of radius `inner`
+    /// (<= the radius) to inner_sums likewise, as an estimator of radius `inner` would (the
+    /// same photons, values and weights; the sums in the outer search's order). Returns the
+    /// photons added to outer_sums and to inner_sums.
+    std::pair<std::uint64_t, std::uint64_t> accumulate_nested(const Ray& ray, std::span<const double> lengths, Radius inner,
+                                                               std::span<double> outer_sums, std::span<double> inner_sums) const
+        requires NestedCollectionVolume<Volume>
+    {
+        const unsigned batches = map_.batches();
+        require(lengths.size() == map_.bands() && outer_sums.size() >= lengths.size() * batches &&
+                    inner_sums.size() >= lengths.size() * batches,
+                "bands of the nested sums", lengths.size(), "must be the map's bands, each with its batches");
+        require_within_map(ray);
+        std::pair<std::uint64_t, std::uint64_t> touched{0, 0};
+        const auto& records = map_.store().records();
+        volume_.gather_nested(map_.store(), ray, radius_, inner, section_,
+                              [&](std::uint32_t index, double t, double w_outer, double w_inner) {
+                                  const auto& rec = records[index];
+                                  const unsigned band = rec.band();
+                                  if (!(t <= lengths[band])) return;
+                                  const bool uniform = map_.flux().is_uniform();
+                                  const double flux = uniform ? 1.0 : relative_flux(rec);
+                                  const double value = in_scatter(optics(band), rec, ray, t);
+                                  const std::size_t slot = std::size_t{band} * batches + rec.batch();
+                                  outer_sums[slot] += (uniform ? w_outer : w_outer * flux) * value;
+                                  ++touched.first;
+                                  if (w_inner == 0.0) return;
+                                  inner_sums[slot] += (uniform ? w_inner : w_inner * flux) * value;
+                                  ++touched.second;
+                              });
+        return touched;
+    }
+
     /// The flux of a record (at importance 1) times the batches: a batch's photon sum times
     /// this is that batch's estimate (each batch alone stands for all the photons).
     [[nodiscard]] double batch_scale() const { return map_.flux().per_record * map_.batches(); }
@@ -367,10 +404,9 @@ private:
             return nullptr;
     }
 
-    /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays, in a map of
-    /// one band), else the per-photon one. A ray of no finite length, or whose collection volume
-    /// reaches below the depth the map stored events to, is refused: its estimate would miss photons.
-    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums, unsigned band) const {
+    /// Refuses a ray of no finite length, or whose collection volume reaches below the depth
+    /// the map stored events to: its estimate would miss photons.
+    void require_within_map(const Ray& ray) const {
         require(std::isfinite(ray.t_max) && ray.t_max >= 0.0, "ray length (m)", ray.t_max, "must be finite and >= 0");
         const double deepest = std::max(ray.origin.z, ray.origin.z + ray.t_max * ray.direction.z) +
                                radius_.value() * sin_from_cos(ray.direction.z);
@@ -378,13 +414,22 @@ private:
             reject("ray depth (m)", deepest,
                    "lies below the depth the photon map stored events to (" + std::to_string(map_.flux().stored_to_depth) +
                        " m): trace with a deeper TransportSettings::map_depth");
+    }
+
+    /// accumulate() for one ray: the coded sum on a vertical ray (with coded_rays, in a map of
+    /// one band), else the per-photon one (require_within_map first).
+    std::uint64_t accumulate_ray(const Ray& ray, std::span<double> batch_sums, unsigned band) const {
+        require_within_map(ray);
         if constexpr (coded_rays)
             if (is_vertical(ray) && map_.bands() == 1) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
         const Optics& band_optics = optics(band);
-        return sum_photons(ray, batch_sums, band, [&](const Record& rec, double t) {
-            const double cos_psi = -glm::dot(rec.direction(), ray.direction);
-            return band_optics.in_scatter(rec.position().z, cos_psi, ray, t);
-        });
+        return sum_photons(ray, batch_sums, band, [&](const Record& rec, double t) { return in_scatter(band_optics, rec, ray, t); });
+    }
+
+    /// The water's part of eq. 3.18 (`optics`: the record's band's) for a photon at distance t along the ray.
+    static double in_scatter(const Optics& optics, const Record& rec, const Ray& ray, double t) {
+        const double cos_psi = -glm::dot(rec.direction(), ray.direction);
+        return optics.in_scatter(rec.position().z, cos_psi, ray, t);
     }
 
     /// The flux of a record relative to the map's per_record (1 / (I(z) D(mu)), record_flux.hpp).

@@ -135,14 +135,23 @@ public:
 
     /// Adds weight times the ray's radiance to `sum`.
     void add(const Ray& ray, unsigned band, double weight, RadianceSum& sum) const {
-        require(std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) && std::isfinite(ray.origin.z),
-                "ray origin", ray.origin.z, "must be finite");
-        require(std::abs(glm::length(ray.direction) - 1.0) < 1e-9, "ray direction length", glm::length(ray.direction),
-                "must be 1 (a unit vector)");
-        require(ray.t_max >= 0.0, "ray length (m)", ray.t_max, "must be >= 0 (INFINITY: unbounded)");
-        require(band < map().bands(), "band", band, "is not among the map's bands (" + std::to_string(map().bands()) + ")");
-        if (ray.origin.z < 0.0) add_from_air(ray, band, weight, sum);
-        else add_in_water(ray, band, weight, sum);
+        walk(ray, band, weight, sum, [&](const Ray& segment, double w) { add_path(segment, band, w, sum); });
+    }
+
+    /// A segment of a ray's path in the water and the weight its photon-map estimate carries in
+    /// the ray's radiance (transmittances and Fresnel factors to the ray's origin).
+    struct PathSegment {
+        Ray ray;
+        double weight;
+    };
+    /// add() without the photon map: the terms outside it (sky, bottom) go to `sum`, the path
+    /// segments whose photon-map estimates the radiance needs are appended to `segments`, in
+    /// add()'s order, for a caller that estimates them itself (e.g. every band from one search:
+    /// estimate/spectral_compensation.hpp). The segments' directions and origins are the same
+    /// in every band; their lengths and weights follow the band's attenuation.
+    void add_outside_map(const Ray& ray, unsigned band, double weight, RadianceSum& sum,
+                         std::vector<PathSegment>& segments) const {
+        walk(ray, band, weight, sum, [&](const Ray& segment, double w) { segments.push_back({segment, w}); });
     }
 
     /// The mean radiance of a set of rays in band `band` (e.g. the rays of one pixel, or a grid
@@ -254,7 +263,22 @@ private:
         return {s.transmit_into_water(d), r, (1.0 - r) * n * n};
     }
 
-    void add_from_air(const Ray& ray, unsigned band, double weight, RadianceSum& sum) const {
+    /// The ray's terms (manual eq. 3.18, the header): those outside the photon map into `sum`,
+    /// each path segment in the water to path(segment, weight).
+    template <class Path>
+    void walk(const Ray& ray, unsigned band, double weight, RadianceSum& sum, Path&& path) const {
+        require(std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) && std::isfinite(ray.origin.z),
+                "ray origin", ray.origin.z, "must be finite");
+        require(std::abs(glm::length(ray.direction) - 1.0) < 1e-9, "ray direction length", glm::length(ray.direction),
+                "must be 1 (a unit vector)");
+        require(ray.t_max >= 0.0, "ray length (m)", ray.t_max, "must be >= 0 (INFINITY: unbounded)");
+        require(band < map().bands(), "band", band, "is not among the map's bands (" + std::to_string(map().bands()) + ")");
+        if (ray.origin.z < 0.0) add_from_air(ray, band, weight, sum, path);
+        else add_in_water(ray, band, weight, sum, path);
+    }
+
+    template <class Path>
+    void add_from_air(const Ray& ray, unsigned band, double weight, RadianceSum& sum, Path& path) const {
         const vec3& d = ray.direction;
         if (d.z <= 0.0) {
             sum.add_exact(weight * sky(-d));
@@ -264,16 +288,17 @@ private:
         if (t_s > ray.t_max) return;  // the host's object, in the air
         const Crossing into = from_air(d);
         if (into.reflectance > 0.0) sum.add_exact(weight * into.reflectance * sky({-d.x, -d.y, d.z}));
-        add_in_water(Ray{surface_point(ray, t_s), into.direction, ray.t_max - t_s}, band, weight * into.transmitted, sum);
+        add_in_water(Ray{surface_point(ray, t_s), into.direction, ray.t_max - t_s}, band, weight * into.transmitted, sum, path);
     }
 
-    void add_in_water(const Ray& ray, unsigned band, double weight, RadianceSum& sum) const {
+    template <class Path>
+    void add_in_water(const Ray& ray, unsigned band, double weight, RadianceSum& sum, Path& path) const {
         const vec3& d = ray.direction;
         const auto [end, t_boundary] = boundary_of(ray);
         const Optics& optics = path_.optics(band);
         const double t_end = std::min(ray.t_max, t_boundary);
         const double t_path = length_to_transmittance(optics, Ray{ray.origin, d, t_end}, settings_.ray_transmittance);
-        add_path(Ray{ray.origin, d, t_path}, band, weight, sum);
+        path(Ray{ray.origin, d, t_path}, weight);
         // The boundary's light is added however faint the path to it (no photons to gather).
         if (end == End::none || ray.t_max < t_boundary) return;  // ended in the water
 
@@ -289,7 +314,7 @@ private:
         const vec3 p = surface_point(ray, t_boundary);
         const vec3 mirror{d.x, d.y, -d.z};  // looks down
         const double r = s.reflectance_from_water(-mirror);
-        if (r > 0.0) add_in_water(Ray{p, mirror, INFINITY}, band, w * r, sum);
+        if (r > 0.0) add_in_water(Ray{p, mirror, INFINITY}, band, w * r, sum, path);
         if (r < 1.0) {
             const double n = s.water_index() / s.air_index();
             sum.add_exact(w * (1.0 - r) * n * n * sky(s.transmit_into_air(-d)));

@@ -48,10 +48,14 @@
 // pooled, not a mean of per-batch ratios (each a ratio of 1/B of the photons, with B times the
 // ratio's bias). The bottom term's SE (shared by every ray) is added beside it, as in RadianceSum.
 //
-// Cost: per ray, each band's estimate at both radii (2 x bands searches, each keeping its band's
-// photons), the spectral searches collecting (r_spectral / r_core)^2 as many photons. The
-// manual's reuse of the core search for the spectral one (3.5.2.3) is not done. The collection
-// volume's boundary bias compensation (VoiCylinder, manual 3.5.1) applies to both searches.
+// Cost: with VoiCylinder (a NestedCollectionVolume, estimate/collection.hpp), one search per
+// ray segment for every band and both radii, as the manual advises (3.5.2.3: "reuse the results
+// from the original, core search"): the spectral cylinder's photons, each band's within that
+// band's segment (its length follows the band's attenuation), the core cylinder's among them
+// by their distance from the axis; the same photons, values and weights as the searches one
+// band and one radius at a time, which StepSpheres (whose spheres depend on the segment's
+// length) still makes: 2 x bands searches per segment, each keeping its band's photons. The
+// collection volume's boundary bias compensation (manual 3.5.1) applies at both radii.
 //
 // Threads: as RadianceEstimator: built once, then radiance() and add() from any number of
 // threads; average() runs its rays in parallel and merges in ray order (bit-identical for any
@@ -62,6 +66,7 @@
 #include "secchi/estimate/radiance.hpp"
 #include "secchi/map/photon_map.hpp"
 #include "secchi/transport/parallel.hpp"
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -215,10 +220,14 @@ public:
     void add(const Ray& ray, double weight, CompensatedSum& sum) const {
         const unsigned batches = map().batches();
         std::vector<RadianceSum> at_core(map().bands(), RadianceSum(batches)), at_spectral(map().bands(), RadianceSum(batches));
-        for (std::size_t k = 0; k < at_core.size(); ++k) {
-            const auto band = static_cast<unsigned>(k);
-            core_.add(ray, band, 1.0, at_core[k]);
-            spectral_.add(ray, band, 1.0, at_spectral[k]);
+        if constexpr (NestedCollectionVolume<Volume>) {
+            add_from_one_search(ray, at_core, at_spectral);
+        } else {
+            for (std::size_t k = 0; k < at_core.size(); ++k) {
+                const auto band = static_cast<unsigned>(k);
+                core_.add(ray, band, 1.0, at_core[k]);
+                spectral_.add(ray, band, 1.0, at_spectral[k]);
+            }
         }
         sum.add_ray(at_core, at_spectral, weight);
     }
@@ -245,6 +254,53 @@ public:
     [[nodiscard]] CompensatedSum empty_sum() const { return CompensatedSum(map().bands(), map().batches()); }
 
 private:
+    /// The ray's sums of every band at both radii (what core_.add and spectral_.add give per
+    /// band) from one search per path segment (manual 3.5.2.3): the spectral cylinder, its
+    /// photons of each band within that band's segment, the core cylinder's among them. The
+    /// terms outside the map (sky, bottom) go to the core sums, which CompensatedSum reads them
+    /// from.
+    void add_from_one_search(const Ray& ray, std::vector<RadianceSum>& at_core, std::vector<RadianceSum>& at_spectral) const
+        requires NestedCollectionVolume<Volume>
+    {
+        using Segments = std::vector<typename RadianceEstimator<Store, Volume, Optics>::PathSegment>;
+        const std::size_t bands = at_core.size();
+        const unsigned batches = map().batches();
+        std::vector<Segments> segments(bands);
+        for (std::size_t k = 0; k < bands; ++k)
+            spectral_.add_outside_map(ray, static_cast<unsigned>(k), 1.0, at_core[k], segments[k]);
+        for (std::size_t k = 1; k < bands; ++k)
+            require(segments[k].size() == segments[0].size(), "path segments of band " + std::to_string(k), segments[k].size(),
+                    "differ in number from band 0's (" + std::to_string(segments[0].size()) + ")");
+        std::vector<double> lengths(bands), outer(bands * batches), inner(bands * batches);
+        const double scale = spectral_.path().batch_scale();
+        for (std::size_t j = 0; j < segments[0].size(); ++j) {
+            const Ray& shared = segments[0][j].ray;
+            double longest = 0.0;
+            for (std::size_t k = 0; k < bands; ++k) {
+                const Ray& own = segments[k][j].ray;
+                require(own.origin == shared.origin && own.direction == shared.direction,
+                        "path segment", j, "of band " + std::to_string(k) + " differs from band 0's in origin or direction");
+                lengths[k] = own.t_max > 0.0 ? own.t_max : -INFINITY;  // (none: as add(), no photons)
+                longest = std::max(longest, own.t_max);
+            }
+            if (!(longest > 0.0)) continue;
+            std::fill(outer.begin(), outer.end(), 0.0);
+            std::fill(inner.begin(), inner.end(), 0.0);
+            const auto [outer_photons, inner_photons] = spectral_.path().accumulate_nested(
+                Ray{shared.origin, shared.direction, longest}, lengths, Radius(radii_.core_radius), outer, inner);
+            for (std::size_t k = 0; k < bands; ++k) {
+                const double w = segments[k][j].weight * scale;
+                auto to_spectral = at_spectral[k].per_batch(), to_core = at_core[k].per_batch();
+                for (unsigned b = 0; b < batches; ++b) {
+                    to_spectral[b] += w * outer[k * batches + b];
+                    to_core[b] += w * inner[k * batches + b];
+                }
+            }
+            at_spectral[0].count_photons(outer_photons);
+            at_core[0].count_photons(inner_photons);
+        }
+    }
+
     static SpectralCompensation checked(const PhotonMap<Store>& map, SpectralCompensation radii) {
         require(map.bands() >= 2, "bands", map.bands(),
                 "must be >= 2: spectral compensation (manual 3.5.2) shares one core search among a spectral map's bands");
