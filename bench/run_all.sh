@@ -47,6 +47,7 @@ run "$build/bench/search_bench" --suite collect $quick
 run "$build/bench/search_bench" --suite uniform $quick
 run "$build/bench/search_bench" --suite tune $quick
 run "$build/bench/search_bench" --suite build $quick
+run "$build/bench/search_bench" --suite spectral $quick
 echo "### Propagation against bare random walks" >>"$md"
 echo >>"$md"
 run "$build/bench/walk_bench" $quick

@@ -1,5 +1,5 @@
 // search_bench: the search-structure benchmarks (a benchmark, never part of the tests).
-//   search_bench --suite build|collect|uniform|scaling|tune|all [--quick] [--md FILE] [--csv FILE]
+//   search_bench --suite build|collect|uniform|scaling|tune|spectral|all [--quick] [--md FILE] [--csv FILE]
 //                [--repeats R] [--max-records N] [--map-photons N]
 // Every figure is the median of R timed runs (spread: min-max), 1 thread.
 //  - build:   map build time and bytes per photon for the k-d tree, the nanoflann adaptor, the
@@ -19,16 +19,22 @@
 //             --csv writes the rows for plot_scaling.py.
 //  - tune:    on the collect map, the VOI octree's leaf size and the VOI grid's cell shape;
 //             on slanted rays, the grid against the octree and the grid's cell shape.
+//  - spectral: spectral compensation (manual 3.5.2) on an 8-band map, the VOI cylinder's one
+//             search per ray segment for every band and both radii against the per-band
+//             searches of its definition (paired).
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
+#include "secchi/estimate/spectral_compensation.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/map/brute_force.hpp"
 #include "secchi/map/kdtree.hpp"
 #include "secchi/map/nanoflann_store.hpp"
 #include "secchi/map/voi_grid.hpp"
 #include "secchi/map/voi_octree.hpp"
+#include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/solver/plane_parallel.hpp"
+#include "secchi/solver/spectral.hpp"
 #if SECCHI_BENCH_EMBREE
 #include "embree_spheres.hpp"
 #endif
@@ -625,11 +631,84 @@ void suite_tune(const Options& o) {
     out(o, "");
 }
 
+// ------------------------------------------------------------------------------- spectral
+
+/// Spectral compensation (estimate/spectral_compensation.hpp): the VOI cylinder's one search per
+/// ray segment for every band and both radii (manual 3.5.2.3) against its definition, the
+/// per-band estimators at each radius (2 x bands searches per segment), paired.
+void suite_spectral(const Options& o) {
+    using Water = HomogeneousWater<HenyeyGreensteinPhase>;
+    constexpr unsigned bands = 8;
+    const double r_core = 0.05;
+    std::vector<Water> waters;
+    std::vector<double> wavelengths;
+    std::vector<HomogeneousRayOptics> optics;
+    for (unsigned k = 0; k < bands; ++k) {  // c from 0.4 to 1.5 /m, albedo 0.9 to 0.5: as 400-700 nm might
+        const double c = 0.4 + 1.1 * k / (bands - 1), w0 = 0.9 - 0.4 * k / (bands - 1);
+        waters.push_back(Water::from_albedo(c, w0, HenyeyGreensteinPhase(0.85)));
+        wavelengths.push_back(400.0 + 300.0 * k / (bands - 1));
+        optics.emplace_back(ConeAveragedPhase(waters.back().phase(), 0.005), waters.back().attenuation(), waters.back().scattering());
+    }
+    PlaneParallelConfig cfg;
+    cfg.sun_zenith_deg = 30.0;
+    cfg.transport.photons = cfg.transport.map_photons = o.quick ? 20'000 : 100'000;
+    cfg.transport.threads = 2;
+    cfg.transport.depths = {1.0};
+    cfg.transport.map_depth = 60.0;
+    const auto run = trace_spectral_map<VoiGridStore<CompactRecord>>(waters, wavelengths, cfg, Radius(r_core));
+    std::vector<Ray> rays = nadir_ray_grid(1.0, INFINITY, 10, run.map.section_width());
+    for (unsigned i = 0; i < 20; ++i)  // slanted rays, 45 degrees from the vertical, 2 m long
+        rays.push_back({{0.05 * i, 0.5, 1.0}, {std::sqrt(0.5), 0.0, std::sqrt(0.5)}, 2.0});
+    const double nr = static_cast<double>(rays.size());
+
+    out(o, "### Spectral compensation: one search for every band and both radii\n");
+    out(o, "Map: " + std::to_string(bands) + " bands (HG g = 0.85 waters, c 0.4-1.5 /m, albedo 0.9-0.5), " +
+               fmt("%.3g", static_cast<double>(cfg.transport.photons)) + " photons per band, " +
+               fmt("%.3g", static_cast<double>(run.map.store().size())) +
+               " CompactRecords in the VOI grid (cells for r_core = 0.05). Rays: 100 nadir rays from 1 m "
+               "(ending where the transmittance falls to 1e-4) and 20 rays at 45 deg, 2 m long; 1 thread. "
+               "**one / per band**: the rays' compensated radiances (SpectralCompensationEstimator::sum_over, one "
+               "VoiCylinder::gather_nested per ray segment) against the same from the per-band estimators at each "
+               "radius (2 x bands searches per segment), paired, " + std::to_string(o.repeats) +
+               " rounds, rate ratio median [min-max]; the largest relative difference of the bands' values.\n");
+    out(o, "| r_spectral (m) | photons per ray, one search | rays/s, one search | rays/s, per band | **one / per band** | largest relative difference |");
+    out(o, "|---|---|---|---|---|---|");
+    for (const double r_spectral : {0.1, 0.2}) {
+        const SpectralCompensationEstimator est(run.map, VoiCylinder(0.0, INFINITY), optics,
+                                                SpectralCompensation{r_core, r_spectral});
+        const auto per_band = [&] {
+            CompensatedSum total = est.empty_sum();
+            for (const Ray& ray : rays) {
+                std::vector<RadianceSum> at_core(bands, RadianceSum(run.map.batches())), at_spectral(bands, RadianceSum(run.map.batches()));
+                for (unsigned k = 0; k < bands; ++k) {
+                    est.core().add(ray, k, 1.0, at_core[k]);
+                    est.spectral().add(ray, k, 1.0, at_spectral[k]);
+                }
+                total.add_ray(at_core, at_spectral, 1.0);
+            }
+            return total;
+        };
+        CompensatedSum one = est.empty_sum(), definition = est.empty_sum();
+        const Timing t_one = time_runs(o.repeats, [&] { one = est.sum_over(rays, 1); });
+        const Timing t_def = time_runs(o.repeats, [&] { definition = per_band(); });
+        const Timing ratio = paired_ratio(o.repeats, [&] { definition = per_band(); }, [&] { one = est.sum_over(rays, 1); });
+        double worst = 0.0;
+        for (unsigned k = 0; k < bands; ++k) {
+            const double a = one.estimate(k).value, b = definition.estimate(k).value;
+            worst = std::max(worst, std::abs(a - b) / std::abs(b));
+        }
+        out(o, "| " + fmt("%.2f", r_spectral) + " | " + fmt("%.4g", static_cast<double>(one.photons_touched()) / nr) + " | " +
+                   rate_cell(t_one, nr) + " | " + rate_cell(t_def, nr) + " | **" + fmt("%.3g", ratio.median) + "** [" +
+                   fmt("%.3g", ratio.lo) + "-" + fmt("%.3g", ratio.hi) + "] | " + fmt("%.1e", worst) + " |");
+    }
+    out(o, "");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     if (CommandLine::wants_help(argc, argv)) {
-        std::cout << "usage: search_bench --suite build|collect|uniform|scaling|tune|all [--quick] [--md FILE] [--csv FILE]\n"
+        std::cout << "usage: search_bench --suite build|collect|uniform|scaling|tune|spectral|all [--quick] [--md FILE] [--csv FILE]\n"
                      "                    [--repeats R] [--max-records N] [--map-photons N]\n";
         return 0;
     }
@@ -655,13 +734,15 @@ int main(int argc, char** argv) {
             o.csv = &csv;
         }
         const std::string suite = cl.text("suite", "all");
-        if (suite != "all" && suite != "build" && suite != "collect" && suite != "uniform" && suite != "scaling" && suite != "tune")
-            throw input_error("search_bench: --suite must be build, collect, uniform, scaling, tune or all");
+        if (suite != "all" && suite != "build" && suite != "collect" && suite != "uniform" && suite != "scaling" && suite != "tune" &&
+            suite != "spectral")
+            throw input_error("search_bench: --suite must be build, collect, uniform, scaling, tune, spectral or all");
         if (suite == "all" || suite == "collect") suite_collect(o);
         if (suite == "all" || suite == "uniform") suite_uniform(o);
         if (suite == "all" || suite == "build") suite_build(o);
         if (suite == "all" || suite == "scaling") suite_scaling(o);
         if (suite == "all" || suite == "tune") suite_tune(o);
+        if (suite == "all" || suite == "spectral") suite_spectral(o);
         return 0;
     } catch (const input_error& e) {
         std::cerr << "search_bench: " << e.what() << "\n";
