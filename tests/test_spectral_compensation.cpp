@@ -106,10 +106,10 @@ TEST_CASE("Spectral compensation with r_spectral = r_core is the per-band estima
 }
 
 TEST_CASE("One search for every band and both radii gives the sums of the per-band searches (manual 3.5.2.3)") {
-    // Property test: random rays (in the water and from the air, any direction, finite or
-    // unbounded, across the periodic section's seams, up to the surface with its internal
-    // reflection and down to a Lambertian bottom), a map of three waters whose segments end at
-    // different lengths. SpectralCompensationEstimator's one search per segment (VoiCylinder's
+    // Property test: five edge rays and 60 random ones (in the water and from the air, any
+    // direction, finite or unbounded, across the periodic section's seams, up to the surface
+    // with its internal reflection and down to a Lambertian bottom), a map of three waters whose
+    // segments end at different lengths. SpectralCompensationEstimator's one search per segment (VoiCylinder's
     // gather_nested) against the definition, made here from the per-band estimators at each
     // radius (2 x 3 searches per segment): the same compensated values, SEs and photon counts;
     // the sums may differ only in their order (images across a seam), so within 1e-12.
@@ -120,12 +120,22 @@ TEST_CASE("One search for every band and both radii gives the sums of the per-ba
     const VoiCylinder volume(0.0, 3.0);
     for (const double spectral_radius : {r_core, 0.12}) {
         const SpectralCompensationEstimator est(run.map, volume, optics_of(waters), SpectralCompensation{r_core, spectral_radius});
+        // The edges first: a ray of length 0, one from the air stopped above the surface, one
+        // straight up (the surface's reflection at normal incidence), one straight down to the
+        // bottom, one along a seam of the section; then random rays.
+        const std::vector<Ray> edges{{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, 0.0},
+                                     {{0.5, 0.5, -0.5}, {0.0, 0.0, 1.0}, 0.2},
+                                     {{0.3, 0.7, 1.5}, {0.0, 0.0, -1.0}, INFINITY},
+                                     {{0.3, 0.7, 1.5}, {0.0, 0.0, 1.0}, INFINITY},
+                                     {{0.0, 0.4, 1.0}, {0.0, 1.0, 0.0}, 2.5}};
         PhotonRng rng(61, 0);
-        for (int i = 0; i < 60; ++i) {
+        for (int i = 0; i < 60 + static_cast<int>(edges.size()); ++i) {
             const double cos_theta = 2.0 * rng.uniform() - 1.0, phi = 2.0 * pi * rng.uniform();
             const vec3 d(sin_from_cos(cos_theta) * std::cos(phi), sin_from_cos(cos_theta) * std::sin(phi), cos_theta);
             const double z = i % 5 == 0 ? -0.05 : 0.02 + 2.9 * rng.uniform();
-            const Ray ray{{rng.uniform(), rng.uniform(), z}, d, i % 3 == 0 ? INFINITY : 0.1 + 4.0 * rng.uniform()};
+            const Ray ray = i < static_cast<int>(edges.size())
+                                ? edges[static_cast<std::size_t>(i)]
+                                : Ray{{rng.uniform(), rng.uniform(), z}, d, i % 3 == 0 ? INFINITY : 0.1 + 4.0 * rng.uniform()};
             CompensatedSum one_search = est.empty_sum(), per_band = est.empty_sum();
             est.add(ray, 1.0, one_search);
             std::vector<RadianceSum> at_core(3, RadianceSum(run.map.batches())), at_spectral(3, RadianceSum(run.map.batches()));
@@ -135,7 +145,8 @@ TEST_CASE("One search for every band and both radii gives the sums of the per-ba
             }
             per_band.add_ray(at_core, at_spectral, 1.0);
             INFO("ray " << i << " from (" << ray.origin.x << ", " << ray.origin.y << ", " << ray.origin.z << ") along ("
-                        << d.x << ", " << d.y << ", " << d.z << "), t_max " << ray.t_max << ", r_spectral " << spectral_radius);
+                        << ray.direction.x << ", " << ray.direction.y << ", " << ray.direction.z << "), t_max " << ray.t_max
+                        << ", r_spectral " << spectral_radius);
             CHECK(one_search.photons_touched() == per_band.photons_touched());
             for (unsigned k = 0; k < 3; ++k) {
                 const Estimate a = one_search.estimate(k), b = per_band.estimate(k);
