@@ -157,6 +157,19 @@ TEST_CASE("One search for every band and both radii gives the sums of the per-ba
     }
 }
 
+TEST_CASE("The nested sums refuse a band's segment longer than the searched ray") {
+    const auto waters = three_waters();
+    const auto run = trace_spectral_map<Store>(waters, {450.0, 550.0, 650.0}, config(81, 2000), Radius(r_core));
+    const PathRadianceEstimator path(run.map, VoiCylinder(0.0, INFINITY), optics_of(waters), Radius(0.1));
+    std::vector<double> outer(3 * run.map.batches()), inner(3 * run.map.batches());
+    const Ray ray{{0.5, 0.5, 1.0}, {0.0, 0.0, 1.0}, 1.0};
+    CHECK_NOTHROW(path.accumulate_nested(ray, std::vector<double>{1.0, 0.5, -INFINITY}, Radius(r_core), outer, inner));
+    CHECK_THROWS_WITH(path.accumulate_nested(ray, std::vector<double>{1.0, 1.5, 0.5}, Radius(r_core), outer, inner),
+                      Contains("band segment length (m) = 1.5") && Contains("searched ray's length"));
+    CHECK_THROWS_WITH(path.accumulate_nested(ray, std::vector<double>{1.0, 0.5, 0.5}, Radius(0.2), outer, inner),
+                      Contains("inner radius (m) = 0.2"));
+}
+
 TEST_CASE("Spectral compensation with step spheres: the per-band searches") {
     // StepSpheres cannot share one search among bands (its spheres follow each segment's
     // length): the estimator searches per band and radius. r_spectral = r_core is the per-band

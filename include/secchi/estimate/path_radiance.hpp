@@ -327,6 +327,9 @@ public:
                     inner_sums.size() >= lengths.size() * batches,
                 "bands of the nested sums", lengths.size(), "must be the map's bands, each with its batches");
         require_within_map(ray);
+        for (const double length : lengths)  // (a band's photons beyond the search would be missed)
+            require(!(length > ray.t_max), "band segment length (m)", length,
+                    "must not exceed the searched ray's length (" + std::to_string(ray.t_max) + " m)");
         std::pair<std::uint64_t, std::uint64_t> touched{0, 0};
         const auto& records = map_.store().records();
         volume_.gather_nested(map_.store(), ray, radius_, inner, section_,
