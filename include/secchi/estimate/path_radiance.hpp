@@ -337,14 +337,12 @@ public:
                                   const auto& rec = records[index];
                                   const unsigned band = rec.band();
                                   if (!(t <= lengths[band])) return;
-                                  const bool uniform = map_.flux().is_uniform();
-                                  const double flux = uniform ? 1.0 : relative_flux(rec);
-                                  const double value = in_scatter(optics(band), rec, ray, t);
+                                  const double value = photon_in_scatter(optics(band), rec, ray, t);
                                   const std::size_t slot = std::size_t{band} * batches + rec.batch();
-                                  outer_sums[slot] += (uniform ? w_outer : w_outer * flux) * value;
+                                  outer_sums[slot] += photon_weight(rec, w_outer) * value;
                                   ++touched.first;
                                   if (w_inner == 0.0) return;
-                                  inner_sums[slot] += (uniform ? w_inner : w_inner * flux) * value;
+                                  inner_sums[slot] += photon_weight(rec, w_inner) * value;
                                   ++touched.second;
                               });
         return touched;
@@ -426,13 +424,19 @@ private:
         if constexpr (coded_rays)
             if (is_vertical(ray) && map_.bands() == 1) return accumulate_coded(ray, batch_sums, (*tables_)[ray.direction.z > 0.0 ? 0 : 1]);
         const Optics& band_optics = optics(band);
-        return sum_photons(ray, batch_sums, band, [&](const Record& rec, double t) { return in_scatter(band_optics, rec, ray, t); });
+        return sum_photons(ray, batch_sums, band, [&](const Record& rec, double t) { return photon_in_scatter(band_optics, rec, ray, t); });
     }
 
     /// The water's part of eq. 3.18 (`optics`: the record's band's) for a photon at distance t along the ray.
-    static double in_scatter(const Optics& optics, const Record& rec, const Ray& ray, double t) {
+    static double photon_in_scatter(const Optics& optics, const Record& rec, const Ray& ray, double t) {
         const double cos_psi = -glm::dot(rec.direction(), ray.direction);
         return optics.in_scatter(rec.position().z, cos_psi, ray, t);
+    }
+
+    /// A photon's weight in the sums: the collection volume's, times the record's relative flux
+    /// where the map's is not uniform.
+    [[nodiscard]] double photon_weight(const Record& rec, double volume_weight) const {
+        return map_.flux().is_uniform() ? volume_weight : volume_weight * relative_flux(rec);
     }
 
     /// The flux of a record relative to the map's per_record (1 / (I(z) D(mu)), record_flux.hpp).
@@ -509,8 +513,7 @@ private:
         volume_.gather(map_.store(), ray, radius_, section_, [&](std::uint32_t index, double t, double weight) {
             const auto& rec = records[index];
             if (!one_band && rec.band() != band) return;
-            const double w = map_.flux().is_uniform() ? weight : weight * relative_flux(rec);
-            batch_sums[rec.batch()] += w * in_scatter(rec, t);
+            batch_sums[rec.batch()] += photon_weight(rec, weight) * in_scatter(rec, t);
             ++touched;
         });
         return touched;
