@@ -4,9 +4,9 @@
 // The options and their reading: slab_options.hpp; the table and the JSON: slab_report.hpp.
 #include "slab_options.hpp"
 #include "slab_report.hpp"
+#include "slab_solve.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/solver/phase_choice.hpp"
-#include "secchi/solver/plane_parallel.hpp"
 #include <optional>
 
 int main(int argc, char** argv) {
@@ -17,9 +17,9 @@ int main(int argc, char** argv) {
         const auto phase = secchi::parse_phase(cl.text("phase", "petzold"));
         std::optional<secchi::OutputFile> json;  // checked before the work
         if (cl.has("json")) json.emplace("--json", cl.text("json"));
-        const auto result = std::visit([&](const auto& p) { return secchi::solve_plane_parallel(p, cfg); }, phase);
-        secchi::examples::slab::print_table(result);
-        if (json) secchi::examples::slab::write_json(result, *json);
+        const auto result = slab::solve(phase, cfg);
+        slab::print_table(result);
+        if (json) slab::write_json(result, *json);
         return 0;
     });
 }

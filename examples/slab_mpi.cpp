@@ -6,6 +6,7 @@
 // --threads. docs/distributed.md: the contract and the scaling model.
 #include "slab_options.hpp"
 #include "slab_report.hpp"
+#include "slab_solve.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/solver/mpi_plane_parallel.hpp"
 #include "secchi/solver/phase_choice.hpp"
@@ -22,8 +23,7 @@ int main(int argc, char** argv) {
         const secchi::MpiSplit split(MPI_COMM_WORLD);
         std::optional<secchi::OutputFile> json;  // checked before the work, on rank 0
         if (split.rank() == 0 && cl.has("json")) json.emplace("--json", cl.text("json"));
-        const auto result =
-            std::visit([&](const auto& p) { return secchi::solve_plane_parallel(p, cfg, split); }, phase);
+        const auto result = slab::solve(phase, cfg, split);
         if (split.rank() == 0) {
             slab::print_table(result);
             if (json) slab::write_json(result, *json);

@@ -11,6 +11,8 @@
 #include <atomic>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 using namespace secchi;
 
@@ -268,6 +270,40 @@ TEST_CASE("shards: the same first pass, and Lu from S maps equal to one map's up
     CHECK_THROWS_AS(solve_plane_parallel(IsotropicPhase{}, cfg), input_error);
     cfg.shards = 0;
     CHECK_THROWS_AS(solve_plane_parallel(IsotropicPhase{}, cfg), input_error);
+}
+
+TEST_CASE("AnyPassSplit hands each exchange to the split it holds; by default one process") {
+    // A split that answers with its own numbers and logs what it was handed.
+    struct Logging {
+        unsigned r, n;
+        std::vector<std::string>* log;
+        unsigned rank() const { return r; }
+        unsigned ranks() const { return n; }
+        void gather_tallies(FirstPassPart<CompactRecord>& part) const {
+            log->push_back("tallies " + std::to_string(part.traced.first) + " " + std::to_string(part.traced.last));
+        }
+        std::uint64_t total(std::uint64_t x) const { return 10 * x + r; }
+        void gather_lu(std::vector<RadianceSum>& sums, unsigned first, unsigned last) const {
+            log->push_back("lu " + std::to_string(sums.size()) + " " + std::to_string(first) + " " + std::to_string(last));
+        }
+    };
+    std::vector<std::string> log;
+    const AnyPassSplit split(Logging{3, 4, &log});
+    const AnyPassSplit copy = split;
+    CHECK(copy.rank() == 3);
+    CHECK(copy.ranks() == 4);
+    CHECK(copy.total(5) == 53);
+    FirstPassPart<CompactRecord> part;
+    part.traced = {2, 7};
+    copy.gather_tallies(part);
+    std::vector<RadianceSum> sums(2, RadianceSum(4));
+    copy.gather_lu(sums, 1, 3);
+    CHECK(log == std::vector<std::string>{"tallies 2 7", "lu 2 1 3"});
+
+    const AnyPassSplit one;
+    CHECK(one.rank() == 0);
+    CHECK(one.ranks() == 1);
+    CHECK(one.total(5) == 5);
 }
 
 TEST_CASE("k-d tree spheres and the VOI cylinder give the same Lu within their combined SE on identical maps") {

@@ -41,9 +41,11 @@
 #include "secchi/transport/tracer.hpp"
 #include <algorithm>
 #include <chrono>
+#include <concepts>
 #include <cstdint>
 #include <deque>
 #include <iomanip>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -373,6 +375,53 @@ concept PassSplit = requires(const S& split, FirstPassPart<CompactRecord>& part,
     { split.total(std::uint64_t{}) } -> std::convertible_to<std::uint64_t>;
     split.gather_lu(sums, 0u, 1u);
 };
+
+/// Any PassSplit as one type, for programs that run the same solver on one process and spread
+/// over processes (examples/slab.cpp and slab_mpi.cpp): instantiated with an AnyPassSplit, the
+/// solver is compiled once for both. A copy of the split is held (SingleProcess and MpiSplit are
+/// small values: counts and a communicator handle); a run's five exchanges (rank, ranks,
+/// gather_tallies, total, gather_lu) go through virtual calls, none inside a photon or ray loop.
+/// The first pass's records are CompactRecords (gather_tallies takes their parts only).
+class AnyPassSplit {
+public:
+    AnyPassSplit() : AnyPassSplit(detail::SingleProcess{}) {}
+    template <class S>
+        requires(!std::same_as<S, AnyPassSplit> && PassSplit<S>)
+    AnyPassSplit(S split) : split_(std::make_shared<const Held<S>>(std::move(split))) {}
+
+    [[nodiscard]] unsigned rank() const { return split_->rank(); }
+    [[nodiscard]] unsigned ranks() const { return split_->ranks(); }
+    void gather_tallies(FirstPassPart<CompactRecord>& part) const { split_->gather_tallies(part); }
+    [[nodiscard]] std::uint64_t total(std::uint64_t n) const { return split_->total(n); }
+    void gather_lu(std::vector<RadianceSum>& sums, unsigned first, unsigned last) const {
+        split_->gather_lu(sums, first, last);
+    }
+
+private:
+    struct Split {
+        virtual ~Split() = default;
+        [[nodiscard]] virtual unsigned rank() const = 0;
+        [[nodiscard]] virtual unsigned ranks() const = 0;
+        virtual void gather_tallies(FirstPassPart<CompactRecord>& part) const = 0;
+        [[nodiscard]] virtual std::uint64_t total(std::uint64_t n) const = 0;
+        virtual void gather_lu(std::vector<RadianceSum>& sums, unsigned first, unsigned last) const = 0;
+    };
+    template <class S>
+    struct Held final : Split {
+        explicit Held(S s) : split(std::move(s)) {}
+        unsigned rank() const override { return split.rank(); }
+        unsigned ranks() const override { return split.ranks(); }
+        void gather_tallies(FirstPassPart<CompactRecord>& part) const override { split.gather_tallies(part); }
+        std::uint64_t total(std::uint64_t n) const override { return split.total(n); }
+        void gather_lu(std::vector<RadianceSum>& sums, unsigned first, unsigned last) const override {
+            split.gather_lu(sums, first, last);
+        }
+        S split;
+    };
+    std::shared_ptr<const Split> split_;
+};
+
+static_assert(PassSplit<AnyPassSplit>);
 
 /// The plane-parallel problem in any Medium: first pass, map, and Lu with `optics` (the
 /// water's part of eq. 3.18 for the collection solid angle cfg.omega).
