@@ -19,9 +19,10 @@
 //             --csv writes the rows for plot_scaling.py.
 //  - tune:    on the collect map, the VOI octree's leaf size and the VOI grid's cell shape;
 //             on slanted rays, the grid against the octree and the grid's cell shape.
-//  - spectral: spectral compensation (manual 3.5.2) on an 8-band map, the VOI cylinder's one
-//             search per ray segment for every band and both radii against the per-band
-//             searches of its definition (paired).
+//  - spectral: spectral compensation (manual 3.5.2) on an 8-band map: the VOI cylinder's one
+//             search per ray segment for every band and both radii, and the k-d tree step
+//             spheres' one search per band for both radii, against the per-band searches of
+//             its definition (paired).
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
 #include "secchi/estimate/spectral_compensation.hpp"
@@ -633,9 +634,48 @@ void suite_tune(const Options& o) {
 
 // ------------------------------------------------------------------------------- spectral
 
-/// Spectral compensation (estimate/spectral_compensation.hpp): the VOI cylinder's one search per
-/// ray segment for every band and both radii (manual 3.5.2.3) against its definition, the
-/// per-band estimators at each radius (2 x bands searches per segment), paired.
+/// One row per r_spectral of the spectral suite: `volume`'s shared searches (one per ray
+/// segment for every band, or one per band's segment for a volume that follows the segment's
+/// length) against the per-band estimators at each radius, paired.
+template <class Store, class Volume>
+void spectral_rows(const Options& o, const std::string& label, const PhotonMap<Store>& map, const Volume& volume,
+                   const std::vector<HomogeneousRayOptics>& optics, const std::vector<Ray>& rays, double r_core) {
+    const double nr = static_cast<double>(rays.size());
+    const unsigned bands = map.bands();
+    for (const double r_spectral : {0.1, 0.2}) {
+        const SpectralCompensationEstimator est(map, volume, optics, SpectralCompensation{r_core, r_spectral});
+        const auto per_band = [&] {
+            CompensatedSum total = est.empty_sum();
+            for (const Ray& ray : rays) {
+                std::vector<RadianceSum> at_core(bands, RadianceSum(map.batches())), at_spectral(bands, RadianceSum(map.batches()));
+                for (unsigned k = 0; k < bands; ++k) {
+                    est.core().add(ray, k, 1.0, at_core[k]);
+                    est.spectral().add(ray, k, 1.0, at_spectral[k]);
+                }
+                total.add_ray(at_core, at_spectral, 1.0);
+            }
+            return total;
+        };
+        CompensatedSum one = est.empty_sum(), definition = est.empty_sum();
+        const Timing t_one = time_runs(o.repeats, [&] { one = est.sum_over(rays, 1); });
+        const Timing t_def = time_runs(o.repeats, [&] { definition = per_band(); });
+        const Timing ratio = paired_ratio(o.repeats, [&] { definition = per_band(); }, [&] { one = est.sum_over(rays, 1); });
+        double worst = 0.0;
+        for (unsigned k = 0; k < bands; ++k) {
+            const double a = one.estimate(k).value, b = definition.estimate(k).value;
+            worst = std::max(worst, std::abs(a - b) / std::abs(b));
+        }
+        out(o, "| " + label + " | " + fmt("%.2f", r_spectral) + " | " +
+                   fmt("%.4g", static_cast<double>(one.photons_touched()) / nr) + " | " + rate_cell(t_one, nr) + " | " +
+                   rate_cell(t_def, nr) + " | **" + fmt("%.3g", ratio.median) + "** [" + fmt("%.3g", ratio.lo) + "-" +
+                   fmt("%.3g", ratio.hi) + "] | " + fmt("%.1e", worst) + " |");
+    }
+}
+
+/// Spectral compensation (estimate/spectral_compensation.hpp): the shared searches (manual
+/// 3.5.2.3) against the definition, the per-band estimators at each radius (2 x bands searches
+/// per segment), paired: the VOI cylinder in the VOI grid (one search per ray segment for every
+/// band and both radii), and k-d tree step spheres (one search per band's segment for both radii).
 void suite_spectral(const Options& o) {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
     constexpr unsigned bands = 8;
@@ -655,52 +695,27 @@ void suite_spectral(const Options& o) {
     cfg.transport.threads = 2;
     cfg.transport.depths = {1.0};
     cfg.transport.map_depth = 60.0;
-    const auto run = trace_spectral_map<VoiGridStore<CompactRecord>>(waters, wavelengths, cfg, Radius(r_core));
-    std::vector<Ray> rays = nadir_ray_grid(1.0, INFINITY, 10, run.map.section_width());
+    const auto grid = trace_spectral_map<VoiGridStore<CompactRecord>>(waters, wavelengths, cfg, Radius(r_core));
+    std::vector<Ray> rays = nadir_ray_grid(1.0, INFINITY, 10, grid.map.section_width());
     for (unsigned i = 0; i < 20; ++i)  // slanted rays, 45 degrees from the vertical, 2 m long
         rays.push_back({{0.05 * i, 0.5, 1.0}, {std::sqrt(0.5), 0.0, std::sqrt(0.5)}, 2.0});
-    const double nr = static_cast<double>(rays.size());
 
-    out(o, "### Spectral compensation: one search for every band and both radii\n");
+    out(o, "### Spectral compensation: shared searches for every band and both radii\n");
     out(o, "Map: " + std::to_string(bands) + " bands (HG g = 0.85 waters, c 0.4-1.5 /m, albedo 0.9-0.5), " +
                fmt("%.3g", static_cast<double>(cfg.transport.photons)) + " photons per band, " +
-               fmt("%.3g", static_cast<double>(run.map.store().size())) +
-               " CompactRecords in the VOI grid (cells for r_core = 0.05). Rays: 100 nadir rays from 1 m "
-               "(ending where the transmittance falls to 1e-4) and 20 rays at 45 deg, 2 m long; 1 thread. "
-               "**one / per band**: the rays' compensated radiances (SpectralCompensationEstimator::sum_over, one "
-               "VoiCylinder::gather_nested per ray segment) against the same from the per-band estimators at each "
-               "radius (2 x bands searches per segment), paired, " + std::to_string(o.repeats) +
-               " rounds, rate ratio median [min-max]; the largest relative difference of the bands' values.\n");
-    out(o, "| r_spectral (m) | photons per ray, one search | rays/s, one search | rays/s, per band | **one / per band** | largest relative difference |");
-    out(o, "|---|---|---|---|---|---|");
-    for (const double r_spectral : {0.1, 0.2}) {
-        const SpectralCompensationEstimator est(run.map, VoiCylinder(0.0, INFINITY), optics,
-                                                SpectralCompensation{r_core, r_spectral});
-        const auto per_band = [&] {
-            CompensatedSum total = est.empty_sum();
-            for (const Ray& ray : rays) {
-                std::vector<RadianceSum> at_core(bands, RadianceSum(run.map.batches())), at_spectral(bands, RadianceSum(run.map.batches()));
-                for (unsigned k = 0; k < bands; ++k) {
-                    est.core().add(ray, k, 1.0, at_core[k]);
-                    est.spectral().add(ray, k, 1.0, at_spectral[k]);
-                }
-                total.add_ray(at_core, at_spectral, 1.0);
-            }
-            return total;
-        };
-        CompensatedSum one = est.empty_sum(), definition = est.empty_sum();
-        const Timing t_one = time_runs(o.repeats, [&] { one = est.sum_over(rays, 1); });
-        const Timing t_def = time_runs(o.repeats, [&] { definition = per_band(); });
-        const Timing ratio = paired_ratio(o.repeats, [&] { definition = per_band(); }, [&] { one = est.sum_over(rays, 1); });
-        double worst = 0.0;
-        for (unsigned k = 0; k < bands; ++k) {
-            const double a = one.estimate(k).value, b = definition.estimate(k).value;
-            worst = std::max(worst, std::abs(a - b) / std::abs(b));
-        }
-        out(o, "| " + fmt("%.2f", r_spectral) + " | " + fmt("%.4g", static_cast<double>(one.photons_touched()) / nr) + " | " +
-                   rate_cell(t_one, nr) + " | " + rate_cell(t_def, nr) + " | **" + fmt("%.3g", ratio.median) + "** [" +
-                   fmt("%.3g", ratio.lo) + "-" + fmt("%.3g", ratio.hi) + "] | " + fmt("%.1e", worst) + " |");
-    }
+               fmt("%.3g", static_cast<double>(grid.map.store().size())) +
+               " CompactRecords (VOI grid: cells for r_core = 0.05; the same records in a k-d tree). Rays: 100 nadir "
+               "rays from 1 m (ending where the transmittance falls to 1e-4) and 20 rays at 45 deg, 2 m long; 1 thread. "
+               "**one / per band**: the rays' compensated radiances (SpectralCompensationEstimator::sum_over: the "
+               "cylinder's one gather_nested per ray segment, the step spheres' one per band's segment) against the "
+               "same from the per-band estimators at each radius (2 x bands searches per segment), paired, " +
+               std::to_string(o.repeats) + " rounds, rate ratio median [min-max]; the largest relative difference of "
+               "the bands' values.\n");
+    out(o, "| volume, store | r_spectral (m) | photons per ray, shared | rays/s, shared | rays/s, per band | **shared / per band** | largest relative difference |");
+    out(o, "|---|---|---|---|---|---|---|");
+    spectral_rows(o, "VOI cylinder, VOI grid", grid.map, VoiCylinder(0.0, INFINITY), optics, rays, r_core);
+    const auto kdtree = trace_spectral_map<KdTreeStore<CompactRecord>>(waters, wavelengths, cfg);
+    spectral_rows(o, "step spheres (n = 32), k-d tree", kdtree.map, StepSpheres(32), optics, rays, r_core);
     out(o, "");
 }
 

@@ -7,8 +7,8 @@
 // in three waters) it agrees with a 4 times larger per-band run; where the shape varies fast
 // (a 0.45 m cylinder across a steep gradient of one band) it carries the documented bias; bad
 // radii and one-band maps are refused; the cylinder's one search for every band and both radii
-// (manual 3.5.2.3) gives the per-band searches' sums on random rays. Tolerances fixed before
-// the runs.
+// (manual 3.5.2.3), and the step spheres' one search per band for both, give the per-band
+// searches' sums on random rays. Tolerances fixed before the runs.
 #include <catch2/catch.hpp>
 #include "secchi/estimate/spectral_compensation.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -105,19 +105,21 @@ TEST_CASE("Spectral compensation with r_spectral = r_core is the per-band estima
     for (unsigned k = 0; k < 3; ++k) CHECK(one[k].value == Approx(est.core().radiance(ray, k).value).epsilon(1e-12));
 }
 
-TEST_CASE("One search for every band and both radii gives the sums of the per-band searches (manual 3.5.2.3)") {
-    // Property test: five edge rays and 60 random ones (in the water and from the air, any
-    // direction, finite or unbounded, across the periodic section's seams, up to the surface
-    // with its internal reflection and down to a Lambertian bottom), a map of three waters whose
-    // segments end at different lengths. SpectralCompensationEstimator's one search per segment (VoiCylinder's
-    // gather_nested) against the definition, made here from the per-band estimators at each
-    // radius (2 x 3 searches per segment): the same compensated values, SEs and photon counts;
-    // the sums may differ only in their order (images across a seam), so within 1e-12.
+namespace {
+/// Property test of SpectralCompensationEstimator's shared searches (manual 3.5.2.3) with
+/// `volume`: five edge rays and 60 random ones (in the water and from the air, any direction,
+/// finite or unbounded, across the periodic section's seams, up to the surface with its
+/// internal reflection and down to a Lambertian bottom at 3 m), r_spectral = r_core and 0.12,
+/// on a map of three waters whose segments end at different lengths, against the definition
+/// made here from the per-band estimators at each radius (2 x 3 searches per segment): the
+/// same compensated values, SEs and photon counts; the sums may differ only in their order
+/// (images across a seam), so within 1e-12.
+template <class Volume>
+void check_shared_searches(const Volume& volume) {
     const auto waters = three_waters();
     PlaneParallelConfig cfg = config(51, 20000);
     cfg.bottom = Bottom::lambertian_at(3.0, 0.3);
     const auto run = trace_spectral_map<Store>(waters, {450.0, 550.0, 650.0}, cfg, Radius(r_core));
-    const VoiCylinder volume(0.0, 3.0);
     for (const double spectral_radius : {r_core, 0.12}) {
         const SpectralCompensationEstimator est(run.map, volume, optics_of(waters), SpectralCompensation{r_core, spectral_radius});
         // The edges first: a ray of length 0, one from the air stopped above the surface, one
@@ -144,9 +146,9 @@ TEST_CASE("One search for every band and both radii gives the sums of the per-ba
                 est.spectral().add(ray, k, 1.0, at_spectral[k]);
             }
             per_band.add_ray(at_core, at_spectral, 1.0);
-            INFO("ray " << i << " from (" << ray.origin.x << ", " << ray.origin.y << ", " << ray.origin.z << ") along ("
-                        << ray.direction.x << ", " << ray.direction.y << ", " << ray.direction.z << "), t_max " << ray.t_max
-                        << ", r_spectral " << spectral_radius);
+            INFO(volume.name() << ", ray " << i << " from (" << ray.origin.x << ", " << ray.origin.y << ", " << ray.origin.z
+                               << ") along (" << ray.direction.x << ", " << ray.direction.y << ", " << ray.direction.z
+                               << "), t_max " << ray.t_max << ", r_spectral " << spectral_radius);
             CHECK(one_search.photons_touched() == per_band.photons_touched());
             for (unsigned k = 0; k < 3; ++k) {
                 const Estimate a = one_search.estimate(k), b = per_band.estimate(k);
@@ -156,8 +158,20 @@ TEST_CASE("One search for every band and both radii gives the sums of the per-ba
         }
     }
 }
+}  // namespace
 
-TEST_CASE("The nested sums refuse a band's segment longer than the searched ray") {
+TEST_CASE("One search for every band and both radii gives the sums of the per-band searches (manual 3.5.2.3)") {
+    // VoiCylinder's gather_nested: one search per segment for all three bands.
+    check_shared_searches(VoiCylinder(0.0, 3.0));
+}
+
+TEST_CASE("Step spheres: one search per band for both radii gives the sums of the per-band searches") {
+    // StepSpheres' gather_nested: its spheres follow each band's segment, so one search per
+    // band's segment, at the spectral radius, serves both radii.
+    check_shared_searches(StepSpheres(16, 0.0, 3.0));
+}
+
+TEST_CASE("The nested sums refuse a band's segment longer than the searched ray, and step spheres a shorter one") {
     const auto waters = three_waters();
     const auto run = trace_spectral_map<Store>(waters, {450.0, 550.0, 650.0}, config(81, 2000), Radius(r_core));
     const PathRadianceEstimator path(run.map, VoiCylinder(0.0, INFINITY), optics_of(waters), Radius(0.1));
@@ -168,18 +182,11 @@ TEST_CASE("The nested sums refuse a band's segment longer than the searched ray"
                       Contains("band segment length (m) = 1.5") && Contains("searched ray's length"));
     CHECK_THROWS_WITH(path.accumulate_nested(ray, std::vector<double>{1.0, 0.5, 0.5}, Radius(0.2), outer, inner),
                       Contains("inner radius (m) = 0.2"));
-}
-
-TEST_CASE("Spectral compensation with step spheres: the per-band searches") {
-    // StepSpheres cannot share one search among bands (its spheres follow each segment's
-    // length): the estimator searches per band and radius. r_spectral = r_core is the per-band
-    // estimate, as with the cylinder.
-    const auto waters = three_waters();
-    const auto run = trace_spectral_map<Store>(waters, {450.0, 550.0, 650.0}, config(71, 10000), Radius(r_core));
-    const SpectralCompensationEstimator est(run.map, StepSpheres(16), optics_of(waters), SpectralCompensation{r_core, r_core});
-    const std::vector<Estimate> compensated = est.average(nadir(1.0, 3), 2);
-    for (unsigned k = 0; k < 3; ++k)
-        CHECK(compensated[k].value == Approx(est.core().average(nadir(1.0, 3), k, 2).value).epsilon(1e-12));
+    // Step spheres follow the segment's length: a shorter segment's spheres are not the searched ray's.
+    const PathRadianceEstimator spheres(run.map, StepSpheres(8), optics_of(waters), Radius(0.1));
+    CHECK_NOTHROW(spheres.accumulate_nested(ray, std::vector<double>{-INFINITY, 1.0, -INFINITY}, Radius(r_core), outer, inner));
+    CHECK_THROWS_WITH(spheres.accumulate_nested(ray, std::vector<double>{1.0, 0.5, -INFINITY}, Radius(r_core), outer, inner),
+                      Contains("band segment length (m) = 0.5") && Contains("spheres(8) follows the segment's length"));
 }
 
 TEST_CASE("Bands of one light field: the compensated estimate agrees with the per-band one, with a smaller SE") {

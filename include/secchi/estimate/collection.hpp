@@ -14,9 +14,9 @@
 //    The segment is meant to lie in the water; where a photon's point on the axis does not, the
 //    cross-section is taken at the plane it has crossed, so that no weight grows without bound.
 // Each calls visit(record index, distance along the ray, weight); VoiCylinder passes the
-// stores' runs of hits whole to a visitor that takes them (ChunkVisitor). VoiCylinder also
-// gathers two coaxial cylinders in one search (gather_nested: the spectral compensation's
-// reuse of its core search, manual 3.5.2.3).
+// stores' runs of hits whole to a visitor that takes them (ChunkVisitor). Both also gather
+// themselves at two radii in one search (gather_nested: the spectral compensation's reuse of
+// its core search, manual 3.5.2.3): two coaxial cylinders, or two concentric spheres per step.
 // Each volume gathers around a ray inside the store's section, gather(store, ray, r, visit),
 // and around any ray in a periodic section, gather(store, ray, r, section, visit) (periodic_ray.hpp:
 // the unwrapped ray's volume from the section's photons and their images; distances along the
@@ -63,11 +63,16 @@ struct NestedVisitorArchetype {
 
 /// A collection volume that gathers itself at two radii in one search: the photons of the
 /// outer volume, each with its weight there and in the inner one (0 where it lies outside).
+/// V::cut_from_longer_search says whether a segment's photons are those of a longer segment
+/// (the same origin and direction) with t <= the segment's length, so that segments of several
+/// lengths can share the longest one's search (the cylinder), or not (the step spheres, which
+/// follow the segment's length).
 template <class V>
 concept NestedCollectionVolume =
     CollectionVolume<V> && requires(const V v, const BruteForceStore<CompactRecord>& s, Ray ray, Radius r,
                                     PeriodicSection section, NestedVisitorArchetype visit) {
         { v.gather_nested(s, ray, r, r, section, visit) };
+        { std::bool_constant<V::cut_from_longer_search>{} };
     };
 
 /// Volume of the part of a sphere (centre depth zc, radius r) between depths top and bottom.
@@ -115,8 +120,9 @@ public:
     /// The spheres of a ray inside the section.
     template <class Store, class Visit>
     void gather(const Store& store, const Ray& ray, Radius r, Visit&& visit) const {
-        for_each_sphere(ray, r, [&](const vec3& centre, double weight) {
-            collect(store, ray, r, centre, vec3(0.0), weight, visit);
+        for_each_step(ray, [&](const vec3& centre, double dr) {
+            const double weight = dr / sphere_volume_in_slab(centre.z, r.value(), top_, bottom_);
+            collect(store, ray, r, centre, vec3(0.0), [&](const Hit& h, double t) { visit(h.index, t, weight); });
         });
     }
 
@@ -124,36 +130,68 @@ public:
     /// each sphere's centre moved into the section, with its images.
     template <class Store, class Visit>
     void gather(const Store& store, const Ray& ray, Radius r, const PeriodicSection& section, Visit&& visit) const {
-        for_each_sphere(ray, r, [&](const vec3& centre, double weight) {
-            const vec3 offset = section.cell_offset(centre), c = centre - offset;
-            section.for_each_image(c.x - r.value(), c.x + r.value(), c.y - r.value(), c.y + r.value(),
-                                   [&](const vec3& shift) { collect(store, ray, r, c + shift, offset - shift, weight, visit); });
+        for_each_image(ray, r, section, [&](const vec3& query, const vec3& unwrap, double dr, double depth) {
+            const double weight = dr / sphere_volume_in_slab(depth, r.value(), top_, bottom_);
+            collect(store, ray, r, query, unwrap, [&](const Hit& h, double t) { visit(h.index, t, weight); });
         });
     }
 
-private:
-    /// Calls f(centre, weight) for each of the n spheres: centred at the midpoints of n equal
-    /// steps dr along the ray, weight dr / (the sphere's volume inside the water).
-    template <class F>
-    void for_each_sphere(const Ray& ray, Radius r, F&& f) const {
-        const double dr = ray.t_max / steps_;
-        for (unsigned i = 0; i < steps_; ++i) {
-            const vec3 centre = ray.origin + ray.direction * ((i + 0.5) * dr);
-            f(centre, dr / sphere_volume_in_slab(centre.z, r.value(), top_, bottom_));
-        }
+    /// The spheres of radius `outer` and `inner` (<= outer) of any ray in a periodic section,
+    /// in one search per sphere (manual 3.5.2.3, the spectral compensation's reuse of its core
+    /// search): visit(index, t, w_outer, w_inner) for every photon image of each outer sphere,
+    /// w_inner 0 where it lies outside the concentric inner one. Each radius's photons,
+    /// distances and weights are those gather() finds (the inner test is the stores' own,
+    /// d^2 <= r^2, on the distance the store reports; an inner sphere's images are among the
+    /// outer one's), in the outer search's order. The spheres follow ray.t_max: a shorter
+    /// segment's spheres are not a longer one's (cut_from_longer_search).
+    template <class Store, class Visit>
+    void gather_nested(const Store& store, const Ray& ray, Radius outer, Radius inner, const PeriodicSection& section,
+                       Visit&& visit) const {
+        require(inner.value() <= outer.value(), "inner radius (m)", inner.value(),
+                "must not exceed the outer radius (" + std::to_string(outer.value()) + " m)");
+        const double inner2 = inner.squared();
+        for_each_image(ray, outer, section, [&](const vec3& query, const vec3& unwrap, double dr, double depth) {
+            const double w_outer = dr / sphere_volume_in_slab(depth, outer.value(), top_, bottom_),
+                         w_inner = dr / sphere_volume_in_slab(depth, inner.value(), top_, bottom_);
+            collect(store, ray, outer, query, unwrap,
+                    [&](const Hit& h, double t) { visit(h.index, t, w_outer, h.distance2 > inner2 ? 0.0 : w_inner); });
+        });
     }
 
-    /// Visits the records within r of `query`, a record at q lying at q + unwrap in the ray's
-    /// frame (distance along the ray: its projection).
-    template <class Store, class Visit>
-    static void collect(const Store& store, const Ray& ray, Radius r, const vec3& query, const vec3& unwrap,
-                        double weight, Visit& visit) {
-        auto hit = [&](const Hit& h) {
-            const double t = glm::dot(store.records()[h.index].position() + unwrap - ray.origin, ray.direction);
-            visit(h.index, t, weight);
+    /// A segment's photons are not those of a longer segment's search cut at its length (the
+    /// spheres' centres and steps follow the segment's length).
+    static constexpr bool cut_from_longer_search = false;
+
+private:
+    /// Calls f(centre, dr) for each of the n spheres: centred at the midpoints of n equal steps
+    /// dr along the ray. A sphere's photons weigh dr / (its volume inside the water).
+    template <class F>
+    void for_each_step(const Ray& ray, F&& f) const {
+        const double dr = ray.t_max / steps_;
+        for (unsigned i = 0; i < steps_; ++i) f(ray.origin + ray.direction * ((i + 0.5) * dr), dr);
+    }
+
+    /// Calls f(query, unwrap, dr, depth) for each sphere of radius r (for_each_step) and each
+    /// of its images in a periodic section: the centre, at `depth`, moved into the section and
+    /// shifted to `query`; a record at q lies at q + unwrap in the ray's frame.
+    template <class F>
+    void for_each_image(const Ray& ray, Radius r, const PeriodicSection& section, F&& f) const {
+        for_each_step(ray, [&](const vec3& centre, double dr) {
+            const vec3 offset = section.cell_offset(centre), c = centre - offset;
+            section.for_each_image(c.x - r.value(), c.x + r.value(), c.y - r.value(), c.y + r.value(),
+                                   [&](const vec3& shift) { f(c + shift, offset - shift, dr, centre.z); });
+        });
+    }
+
+    /// Calls hit(h, t) for the records within r of `query`, a record at q lying at q + unwrap
+    /// in the ray's frame (t, the distance along the ray: its projection).
+    template <class Store, class Hits>
+    static void collect(const Store& store, const Ray& ray, Radius r, const vec3& query, const vec3& unwrap, Hits&& hit) {
+        auto each = [&](const Hit& h) {
+            hit(h, glm::dot(store.records()[h.index].position() + unwrap - ray.origin, ray.direction));
             return true;
         };
-        store.within(query, r, hit);
+        store.within(query, r, each);
     }
 
     unsigned steps_;
@@ -232,6 +270,9 @@ public:
             store.along(query, outer, collect);
         });
     }
+
+    /// A segment's photons are those of a longer segment's cylinder with t <= its length.
+    static constexpr bool cut_from_longer_search = true;
 
 private:
     /// A photon's weight where the cylinder of radius r is cut by the water's planes: 1 / the

@@ -312,12 +312,14 @@ public:
 
     /// accumulate() for every band at once and at two radii, from one search (the spectral
     /// compensation's reuse of its core search, manual 3.5.2.3): along `ray`, band k's photons
-    /// with t <= lengths[k] (each band's own segment, a prefix of the ray; ray.t_max the
-    /// longest) add to outer_sums[k * batches + batch] as accumulate() at this estimator's
-    /// radius would over that segment, and those inside the coaxial cylinder of radius `inner`
-    /// (<= the radius) to inner_sums likewise, as an estimator of radius `inner` would (the
-    /// same photons, values and weights; the sums in the outer search's order). Returns the
-    /// photons added to outer_sums and to inner_sums.
+    /// over its own segment, the prefix of length lengths[k] (none where it is not > 0;
+    /// ray.t_max the longest), add to outer_sums[k * batches + batch] as accumulate() at this
+    /// estimator's radius would over that segment, and those inside the inner volume of radius
+    /// `inner` (<= the radius) to inner_sums likewise, as an estimator of radius `inner` would
+    /// (the same photons, values and weights; the sums in the outer search's order). A volume
+    /// whose segments are not cuts of a longer search (Volume::cut_from_longer_search false:
+    /// the step spheres) takes segments of the ray's whole length only. Returns the photons
+    /// added to outer_sums and to inner_sums.
     std::pair<std::uint64_t, std::uint64_t> accumulate_nested(const Ray& ray, std::span<const double> lengths, Radius inner,
                                                                std::span<double> outer_sums, std::span<double> inner_sums) const
         requires NestedCollectionVolume<Volume>
@@ -327,16 +329,23 @@ public:
                     inner_sums.size() >= lengths.size() * batches,
                 "bands of the nested sums", lengths.size(), "must be the map's bands, each with its batches");
         require_within_map(ray);
-        for (const double length : lengths)  // (a band's photons beyond the search would be missed)
+        for (const double length : lengths) {  // (a band's photons beyond the search would be missed)
             require(!(length > ray.t_max), "band segment length (m)", length,
                     "must not exceed the searched ray's length (" + std::to_string(ray.t_max) + " m)");
+            if constexpr (!Volume::cut_from_longer_search)
+                require(!(length > 0.0) || length == ray.t_max, "band segment length (m)", length,
+                        "must be the searched ray's length (" + std::to_string(ray.t_max) + " m) or none: " + volume_.name() +
+                            " follows the segment's length, so a shorter segment's photons are not among its search's");
+        }
         std::pair<std::uint64_t, std::uint64_t> touched{0, 0};
         const auto& records = map_.store().records();
         volume_.gather_nested(map_.store(), ray, radius_, inner, section_,
                               [&](std::uint32_t index, double t, double w_outer, double w_inner) {
                                   const auto& rec = records[index];
                                   const unsigned band = rec.band();
-                                  if (!(t <= lengths[band])) return;
+                                  if (!(lengths[band] > 0.0)) return;
+                                  if constexpr (Volume::cut_from_longer_search)
+                                      if (!(t <= lengths[band])) return;
                                   const double value = photon_in_scatter(optics(band), rec, ray, t);
                                   const std::size_t slot = std::size_t{band} * batches + rec.batch();
                                   outer_sums[slot] += photon_weight(rec, w_outer) * value;

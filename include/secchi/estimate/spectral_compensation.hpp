@@ -48,13 +48,14 @@
 // pooled, not a mean of per-batch ratios (each a ratio of 1/B of the photons, with B times the
 // ratio's bias). The bottom term's SE (shared by every ray) is added beside it, as in RadianceSum.
 //
-// Cost: with VoiCylinder (a NestedCollectionVolume, estimate/collection.hpp), one search per
-// ray segment for every band and both radii, as the manual advises (3.5.2.3: "reuse the results
-// from the original, core search"): the spectral cylinder's photons, each band's within that
-// band's segment (its length follows the band's attenuation), the core cylinder's among them
-// by their distance from the axis; the same photons, values and weights as the searches one
-// band and one radius at a time, which StepSpheres (whose spheres depend on the segment's
-// length) still makes: 2 x bands searches per segment, each keeping its band's photons. The
+// Cost: the manual advises to "reuse the results from the original, core search" (3.5.2.3).
+// With VoiCylinder (a NestedCollectionVolume, estimate/collection.hpp), one search per ray
+// segment serves every band and both radii: the spectral cylinder's photons, each band's within
+// that band's segment (its length follows the band's attenuation), the core cylinder's among
+// them by their distance from the axis. StepSpheres' spheres follow the segment's length, so
+// each band's segment is searched on its own, once for both radii (the spectral spheres, the
+// core ones' photons among them): bands searches per segment instead of 2 x bands. Either way
+// the same photons, values and weights as the searches one band and one radius at a time. The
 // collection volume's boundary bias compensation (manual 3.5.1) applies at both radii.
 //
 // Threads: as RadianceEstimator: built once, then radiance() and add() from any number of
@@ -256,9 +257,10 @@ public:
 private:
     /// The ray's sums of every band at both radii (what core_.add and spectral_.add give per
     /// band) from one search per path segment (manual 3.5.2.3): the spectral cylinder, its
-    /// photons of each band within that band's segment, the core cylinder's among them. The
-    /// terms outside the map (sky, bottom) go to the core sums, which CompensatedSum reads them
-    /// from.
+    /// photons of each band within that band's segment, the core cylinder's among them; or,
+    /// for a volume that follows the segment's length (step spheres), one search per band's
+    /// segment for both radii. The terms outside the map (sky, bottom) go to the core sums,
+    /// which CompensatedSum reads them from.
     void add_from_one_search(const Ray& ray, std::vector<RadianceSum>& at_core, std::vector<RadianceSum>& at_spectral) const
         requires NestedCollectionVolume<Volume>
     {
@@ -273,6 +275,25 @@ private:
                     "differ in number from band 0's (" + std::to_string(segments[0].size()) + ")");
         std::vector<double> lengths(bands), outer(bands * batches), inner(bands * batches);
         const double scale = spectral_.path().batch_scale();
+        // One search at both radii over `ray` for the bands of `of_bands` (their segments'
+        // lengths, none: -inf), added to their sums with their segments' weights.
+        auto add_nested = [&](const Ray& ray, std::span<const double> of_bands, std::size_t j) {
+            std::fill(outer.begin(), outer.end(), 0.0);
+            std::fill(inner.begin(), inner.end(), 0.0);
+            const auto [outer_photons, inner_photons] =
+                spectral_.path().accumulate_nested(ray, of_bands, Radius(radii_.core_radius), outer, inner);
+            for (std::size_t k = 0; k < bands; ++k) {
+                if (!(of_bands[k] > 0.0)) continue;
+                const double w = segments[k][j].weight * scale;
+                auto to_spectral = at_spectral[k].per_batch(), to_core = at_core[k].per_batch();
+                for (unsigned b = 0; b < batches; ++b) {
+                    to_spectral[b] += w * outer[k * batches + b];
+                    to_core[b] += w * inner[k * batches + b];
+                }
+            }
+            at_spectral[0].count_photons(outer_photons);
+            at_core[0].count_photons(inner_photons);
+        };
         for (std::size_t j = 0; j < segments[0].size(); ++j) {
             const Ray& shared = segments[0][j].ray;
             double longest = 0.0;
@@ -284,20 +305,17 @@ private:
                 longest = std::max(longest, own.t_max);
             }
             if (!(longest > 0.0)) continue;
-            std::fill(outer.begin(), outer.end(), 0.0);
-            std::fill(inner.begin(), inner.end(), 0.0);
-            const auto [outer_photons, inner_photons] = spectral_.path().accumulate_nested(
-                Ray{shared.origin, shared.direction, longest}, lengths, Radius(radii_.core_radius), outer, inner);
-            for (std::size_t k = 0; k < bands; ++k) {
-                const double w = segments[k][j].weight * scale;
-                auto to_spectral = at_spectral[k].per_batch(), to_core = at_core[k].per_batch();
-                for (unsigned b = 0; b < batches; ++b) {
-                    to_spectral[b] += w * outer[k * batches + b];
-                    to_core[b] += w * inner[k * batches + b];
+            if constexpr (Volume::cut_from_longer_search) {  // every band's segment from the longest one's search
+                add_nested(Ray{shared.origin, shared.direction, longest}, lengths, j);
+            } else {  // one search per band, for both radii
+                std::vector<double> one_band(bands, -INFINITY);
+                for (std::size_t k = 0; k < bands; ++k) {
+                    if (!(lengths[k] > 0.0)) continue;
+                    one_band[k] = lengths[k];
+                    add_nested(segments[k][j].ray, one_band, j);
+                    one_band[k] = -INFINITY;
                 }
             }
-            at_spectral[0].count_photons(outer_photons);
-            at_core[0].count_photons(inner_photons);
         }
     }
 
