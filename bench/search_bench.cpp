@@ -706,7 +706,7 @@ void suite_spectral(const Options& o) {
                fmt("%.3g", static_cast<double>(grid.map.store().size())) +
                " CompactRecords (VOI grid: cells for r_core = 0.05; the same records in a k-d tree). Rays: 100 nadir "
                "rays from 1 m (ending where the transmittance falls to 1e-4) and 20 rays at 45 deg, 2 m long; 1 thread. "
-               "**one / per band**: the rays' compensated radiances (SpectralCompensationEstimator::sum_over: the "
+               "**shared / per band**: the rays' compensated radiances (SpectralCompensationEstimator::sum_over: the "
                "cylinder's one gather_nested per ray segment, the step spheres' one per band's segment) against the "
                "same from the per-band estimators at each radius (2 x bands searches per segment), paired, " +
                std::to_string(o.repeats) + " rounds, rate ratio median [min-max]; the largest relative difference of "

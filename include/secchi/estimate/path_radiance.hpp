@@ -312,8 +312,8 @@ public:
 
     /// accumulate() for every band at once and at two radii, from one search (the spectral
     /// compensation's reuse of its core search, manual 3.5.2.3): along `ray`, band k's photons
-    /// over its own segment, the prefix of length lengths[k] (none where it is not > 0;
-    /// ray.t_max the longest), add to outer_sums[k * batches + batch] as accumulate() at this
+    /// over its own segment, the prefix of length lengths[k] (-inf: none; ray.t_max the
+    /// longest), add to outer_sums[k * batches + batch] as accumulate() at this
     /// estimator's radius would over that segment, and those inside the inner volume of radius
     /// `inner` (<= the radius) to inner_sums likewise, as an estimator of radius `inner` would
     /// (the same photons, values and weights; the sums in the outer search's order). A volume
@@ -343,9 +343,11 @@ public:
                               [&](std::uint32_t index, double t, double w_outer, double w_inner) {
                                   const auto& rec = records[index];
                                   const unsigned band = rec.band();
-                                  if (!(lengths[band] > 0.0)) return;
-                                  if constexpr (Volume::cut_from_longer_search)
+                                  if constexpr (Volume::cut_from_longer_search) {
                                       if (!(t <= lengths[band])) return;
+                                  } else if (!(lengths[band] > 0.0)) {
+                                      return;
+                                  }
                                   const double value = photon_in_scatter(optics(band), rec, ray, t);
                                   const std::size_t slot = std::size_t{band} * batches + rec.batch();
                                   outer_sums[slot] += photon_weight(rec, w_outer) * value;

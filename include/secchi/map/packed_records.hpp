@@ -31,6 +31,7 @@
 // the leaf scan goes through a run frame by frame (for_each_frame), reading the words in place.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
+#include "secchi/core/math.hpp"
 #include "secchi/map/record.hpp"
 #include <algorithm>
 #include <array>
@@ -164,8 +165,9 @@ public:
                frames_.capacity() * sizeof(KeptFrame) + block_frame_.capacity() * sizeof(std::uint32_t);
     }
 
-    /// Record i as a CompactRecord: its position read back, its other bytes as stored.
-    [[nodiscard]] CompactRecord operator[](std::uint32_t i) const {
+    /// Record i as a CompactRecord: its position read back, its other bytes as stored. Read per
+    /// photon in the second pass's loops: always inlined (SECCHI_KERNEL).
+    [[nodiscard]] SECCHI_KERNEL CompactRecord operator[](std::uint32_t i) const {
         const Attributes a = attributes_[i];
         CompactRecord r{0.0f, 0.0f, 0.0f, a.theta, a.phi, a.band, a.batch};
         read_position(codes_[i], frames_[frame_of(i)].frame(), r);

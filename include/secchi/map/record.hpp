@@ -162,7 +162,8 @@ struct CompactRecord {
                 b, batch};
     }
     [[nodiscard]] vec3 position() const { return {x, y, z}; }
-    [[nodiscard]] vec3 direction() const {
+    /// Decoded per photon in the second pass's loops: always inlined (SECCHI_KERNEL).
+    [[nodiscard]] SECCHI_KERNEL vec3 direction() const {
         const auto& t = detail::direction_tables();
         return {t.sin_theta[theta] * t.cos_phi[phi], t.sin_theta[theta] * t.sin_phi[phi], t.cos_theta[theta]};
     }
