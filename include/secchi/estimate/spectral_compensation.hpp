@@ -275,13 +275,13 @@ private:
                     "differ in number from band 0's (" + std::to_string(segments[0].size()) + ")");
         std::vector<double> lengths(bands), outer(bands * batches), inner(bands * batches);
         const double scale = spectral_.path().batch_scale();
-        // One search at both radii over `ray` for the bands of `of_bands` (their segments'
-        // lengths, none: -inf), added to their sums with their segments' weights.
-        auto add_nested = [&](const Ray& ray, std::span<const double> of_bands, std::size_t j) {
+        // One search at both radii along `searched` for the bands of `of_bands` (their segment
+        // j's lengths, none: -inf), added to their sums with their segments' weights.
+        auto add_nested = [&](const Ray& searched, std::span<const double> of_bands, std::size_t j) {
             std::fill(outer.begin(), outer.end(), 0.0);
             std::fill(inner.begin(), inner.end(), 0.0);
             const auto [outer_photons, inner_photons] =
-                spectral_.path().accumulate_nested(ray, of_bands, Radius(radii_.core_radius), outer, inner);
+                spectral_.path().accumulate_nested(searched, of_bands, Radius(radii_.core_radius), outer, inner);
             for (std::size_t k = 0; k < bands; ++k) {
                 if (!(of_bands[k] > 0.0)) continue;
                 const double w = segments[k][j].weight * scale;
