@@ -274,6 +274,7 @@ private:
             require(segments[k].size() == segments[0].size(), "path segments of band " + std::to_string(k), segments[k].size(),
                     "differ in number from band 0's (" + std::to_string(segments[0].size()) + ")");
         std::vector<double> lengths(bands), outer(bands * batches), inner(bands * batches);
+        std::vector<double> one_band(bands, -INFINITY);  // a single band's lengths (volumes that follow the segment)
         const double scale = spectral_.path().batch_scale();
         // One search at both radii along `searched` for the bands of `of_bands` (their segment
         // j's lengths, none: -inf), added to their sums with their segments' weights.
@@ -308,7 +309,6 @@ private:
             if constexpr (Volume::cut_from_longer_search) {  // every band's segment from the longest one's search
                 add_nested(Ray{shared.origin, shared.direction, longest}, lengths, j);
             } else {  // one search per band, for both radii
-                std::vector<double> one_band(bands, -INFINITY);
                 for (std::size_t k = 0; k < bands; ++k) {
                     if (!(lengths[k] > 0.0)) continue;
                     one_band[k] = lengths[k];
