@@ -44,7 +44,7 @@ struct NoAbsorption {
 /// mu_c and the floor's depth; `record` tallies a straight flight into one IrradianceTally per
 /// depth (Ed, Eu, Eod, Eou), its weight decaying along the flight by the absorber's absorption
 /// (a Medium, or NoAbsorption). PhotonTracer takes one (IrradiancePlanes by default);
-/// LaneTracer also needs record_lanes and may_tally for flights in SIMD lanes.
+/// LaneTracer also needs record_lanes, for flights in SIMD lanes.
 template <class D>
 concept IrradianceDetector =
     std::constructible_from<D, std::vector<double>, double, double> &&
@@ -111,40 +111,35 @@ public:
     }
 
     /// record() for one flight per SIMD lane (Real: a std::experimental::simd of doubles or
-    /// floats; photons in lanes, transport/lane_tracer.hpp) without absorption along the flights
-    /// (NoAbsorption), for the lanes in `active`: the same tests and arithmetic lane by lane,
-    /// each plane's tallies summed per lane into `tally` (the caller sums the lanes).
-    /// tests/test_lane_tracer.cpp checks it against record(). In floats the planes are rounded
-    /// to float, and a plane on the bottom is the next float shallower than the floor's.
-    template <class Real, class Mask>
+    /// floats; photons in lanes, transport/lane_tracer.hpp), for the lanes in `active`: the same
+    /// tests lane by lane, each plane's tallies summed per lane into `tally` (the caller sums
+    /// the lanes). The weight decays along the flights by `absorber`: NoAbsorption (the weight
+    /// does not decay: record()'s arithmetic), or an object whose transmittance(s) gives
+    /// exp(-int_0^s a dt') per lane for path lengths s (LaneTracer's, for its homogeneous
+    /// water). tests/test_lane_tracer.cpp checks it against record(). In floats the planes are
+    /// rounded to float, and a plane on the bottom is the next float shallower than the floor's.
+    template <class Real, class Mask, class Absorber = NoAbsorption>
     SECCHI_KERNEL void record_lanes(const Real& z0, const Real& z1, const Real& uz, const Real&, const Real& w,
-                                    const Mask& active, std::array<Real, 4>* tally) const {
+                                    const Mask& active, std::array<Real, 4>* tally, const Absorber& absorber = {}) const {
         using T = scalar_t<Real>;
-        const Real scalar = w * inverse_cosine(uz);
+        const Real inverse_mu = inverse_cosine(uz);
         for (std::size_t i = 0; i < depths_.size(); ++i) {
             const T d = std::is_same_v<T, float> ? T(float_planes_[i]) : T(planes_[i]);
             const Mask down = active && uz > T(0) && z0 <= d && d < z1;
             const Mask up = active && uz < T(0) && z1 <= d && d < z0;
             if (none_of(down || up)) continue;
-            where(down, tally[i][Ed]) += w;
-            where(up, tally[i][Eu]) += w;
+            Real at_plane = w;
+            if constexpr (!std::same_as<Absorber, NoAbsorption>) {  // w exp(-a s), s = (d - z0) / uz to the plane
+                Real s(T(0));
+                where(down || up, s) = (Real(d) - z0) / uz;
+                at_plane = w * absorber.transmittance(s);
+            }
+            const Real scalar = at_plane * inverse_mu;
+            where(down, tally[i][Ed]) += at_plane;
+            where(up, tally[i][Eu]) += at_plane;
             where(down, tally[i][Eod]) += scalar;
             where(up, tally[i][Eou]) += scalar;
         }
-    }
-
-    /// Whether a flight over depths [z_min, z_max] may tally at any depth: false only if
-    /// record() would skip every plane. For doubles, or for SIMD vectors of them (one flight
-    /// per lane; the result is then a mask).
-    template <class Real>
-    [[nodiscard]] auto may_tally(Real z_min, Real z_max) const {
-        using T = scalar_t<Real>;
-        auto any = z_max < z_min;  // false (flights have z_min <= z_max), of the right type
-        for (std::size_t i = 0; i < depths_.size(); ++i) {
-            const T d = std::is_same_v<T, float> ? T(float_planes_[i]) : T(planes_[i]);
-            any = any || (z_min <= d && d <= z_max);
-        }
-        return any;
     }
 
 private:

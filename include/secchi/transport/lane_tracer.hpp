@@ -68,6 +68,19 @@
 #if SECCHI_HAS_LANES
 namespace secchi::SECCHI_ISA {
 
+/// Absorption along straight flights in homogeneous water, one flight per lane: the
+/// transmittance exp(-a s) over path lengths s (lanes::exp, in Real). LaneTracer's weights decay
+/// by it with continuous absorption, and so do its detectors' scores on the way to their planes
+/// (IrradiancePlanes::record_lanes). In floats within a relative (a s + 8) 2^-24 of exp(-a s)
+/// (the product a s rounds once; lanes::exp is within 4 float ulp of exp).
+template <class Real>
+struct LaneAbsorption {
+    Real a;  ///< absorption coefficient (1/m)
+    [[nodiscard]] SECCHI_KERNEL lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& s) const {
+        return lanes::exp(-a * s);
+    }
+};
+
 /// Real: the lanes' precision. double by default; float doubles the lanes per vector (8 with
 /// AVX2) for about 1.5 times the speed (BENCHMARKS.md), with positions,
 /// directions and weights rounded to float between events (a relative 6e-8; the map's records
@@ -77,7 +90,7 @@ namespace secchi::SECCHI_ISA {
 /// Source: the light source (scene/source.hpp), whose photons (and, for a traced atmosphere,
 /// the light it sends back) are followed lane by lane by PhotonTracer's launch and surface
 /// crossing.
-/// Detector: the irradiance detectors (IrradianceDetector, with record_lanes and may_tally for
+/// Detector: the irradiance detectors (IrradianceDetector, with record_lanes for
 /// flights in lanes), IrradiancePlanes by default.
 /// BottomPolicy: the bottom (BottomModel, scene/bottom.hpp), met lane by lane as PhotonTracer does.
 template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface,
@@ -109,6 +122,7 @@ public:
           key_({static_cast<std::uint32_t>(this->s_.seed), static_cast<std::uint32_t>(this->s_.seed >> 32)}),
           path_coefficient_(static_cast<Real>(
               medium.coefficient(this->physics_.path_coefficient(), 0.0))),
+          absorption_coefficient_(static_cast<Real>(medium.coefficient(Coefficient::absorption, 0.0))),
           spans_(lane_spans(this->levels_)), lane_bias_(Base::bias_.template in<Real>()) {}
 
     /// A collimated sun and a uniform sky beside it (SunAndSky), as PhotonTracer's.
@@ -407,7 +421,7 @@ private:
         const Reals z(L.z, aligned), dz(L.dz, aligned);
         const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
         const FreeFlight<Reals> flight = physics.free_flight(z, dz, s);
-        fly(L, alive, flight.t, flight.z1, out);
+        fly(L, alive, flight.t, flight.z1);
         const Mask at_boundary = alive && (flight.to_surface || flight.to_floor);
         const Mask inside = alive && !at_boundary;
         const Vec3 before{Reals(L.dx, aligned), Reals(L.dy, aligned), dz};
@@ -455,41 +469,26 @@ private:
         });
     }
 
-    /// PhotonTracer::fly per lane (path length t to depth z1): the detectors (in the vectors,
-    /// or lane by lane when the weight decays along the flight), continuous absorption, the move.
-    SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, const Reals& z1,
-                           detail::BlockResult<Record>& out) const {
-        const Reals z(L.z, aligned), dz(L.dz, aligned);
-        if (!this->physics_.continuous()) {
-            this->detectors_.record_lanes(z, z1, dz, t, Reals(L.w, aligned), alive, L.tally.data());
-        } else {
-            using lanes::stdx::abs, lanes::stdx::max, lanes::stdx::min;
-            const Mask tallies = alive && this->detectors_.may_tally(min(z, z1), max(z, z1));
-            lanes::for_each(tallies, [&](int l) {
-                this->detectors_.record(Flight{depth(L.z[l]), depth(z1[l]), L.dz[l], t[l], L.w[l]}, this->medium_,
-                                     out.tally.data());
-            });
-        }
+    /// PhotonTracer::fly per lane (path length t to depth z1): the detectors, continuous
+    /// absorption (the weight times exp(-a t), and the detectors' scores decayed to their
+    /// planes: PhotonTracer's arithmetic with lanes::exp for std::exp), the move.
+    SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, const Reals& z1) const {
+        const Reals z(L.z, aligned), dz(L.dz, aligned), w(L.w, aligned);
+        const LaneAbsorption<Real> decay{absorption_coefficient_};
+        if (!this->physics_.continuous()) this->detectors_.record_lanes(z, z1, dz, t, w, alive, L.tally.data());
+        else this->detectors_.record_lanes(z, z1, dz, t, w, alive, L.tally.data(), decay);
         (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
         (Reals(L.y, aligned) + Reals(L.dy, aligned) * t).copy_to(L.y, aligned);
         z1.copy_to(L.z, aligned);
         if (!this->physics_.continuous()) return;
-        lanes::for_each(alive, [&](int l) {  // w exp(-a t), as PhotonTracer::fly
-            const auto w = static_cast<Real>(
-                L.w[l] * std::exp(-this->medium_.optical_path(Coefficient::absorption, z[l], L.dz[l], t[l])));
-            L.absorbed[l] += L.w[l] - w;
-            L.w[l] = w;
-        });
+        const Reals decayed = w * decay.transmittance(t);
+        Reals absorbed(L.absorbed, aligned), weight = w;
+        lanes::stdx::where(alive, absorbed) = absorbed + (w - decayed);
+        lanes::stdx::where(alive, weight) = decayed;
+        absorbed.copy_to(L.absorbed, aligned);
+        weight.copy_to(L.w, aligned);
     }
 
-    /// A lane's depth as a double for PhotonTracer's per-flight functions: in float lanes a
-    /// photon on the floor is at float(floor depth) (step()), which is the floor's depth
-    /// itself there, so that the detector planes of record() see it on the floor.
-    double depth(Real z) const {
-        const double floor_depth = this->slab_.floor_depth();
-        if constexpr (in_floats) return z == static_cast<Real>(floor_depth) ? floor_depth : z;
-        return z;
-    }
 
     /// Equal-flux storage (EventPhysics::keeps, as PhotonTracer::store_event): an event is kept
     /// if u < w, with depth importance if u < w I(z) (I at the record's depth: the lane's span's
@@ -578,6 +577,7 @@ private:
 
     lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)
     Real path_coefficient_;             ///< c, or b with continuous absorption (1/m)
+    Real absorption_coefficient_;       ///< a (1/m): continuous absorption's decay along flights
     std::vector<LaneSpan> spans_;       ///< the depth importance's spans (one, unbounded, without it)
     BackscatterBiasOf<Real> lane_bias_;  ///< PhotonTracer's backscatter bias in Real (off by default)
 };
