@@ -4,7 +4,8 @@
 // per core (analog transport, w0 = 0.9, every scattering stored), for the Henyey-Greenstein
 // (g = 0.9) and Petzold samplers, and for HG with LaneTracer (photons in SIMD lanes of doubles,
 // and of floats); photons per second for problems 1a, 2a and 2b on 1 and 2
-// threads (thread_speedup_propagation is problem 2a's). Collection: rays per
+// threads (thread_speedup_propagation is problem 2a's), and for 1a and 2a in double and float
+// lanes on one. Collection: rays per
 // second through a problem-2a map, k-d tree spheres at n = 32 against the VOI cylinder at the
 // same radius and at equal photons per ray (the speed-ups paired: the two timed in turn, round
 // by round), the cylinder in the VOI octree (voi_*) and in the grid of columns (voi_grid_*). Thread speed-ups: 2 threads against 1 on the same work, alternated run by run
@@ -53,6 +54,16 @@ double events_per_second(const Phase& phase, std::uint64_t photons, int repeats,
     if (reuse_map) run();  // untimed: the memory every timed run reuses
     const double t = time_runs(repeats, run).median;
     return static_cast<double>(map.size()) / t;
+}
+
+/// Photons per second of a canonical problem's first pass on one core (sun at 60 deg, n = 1.34,
+/// continuous absorption as in the conformance runs) by Tracer.
+template <template <class...> class Tracer, class Phase>
+double photons_per_second(const Phase& phase, double w0, std::uint64_t photons, int repeats) {
+    const double t = time_runs(repeats, [&] {
+                         trace_slab<CompactRecord, Tracer>(phase, w0, 60, 1.34, photons, 1, AbsorptionMode::continuous);
+                     }).median;
+    return static_cast<double>(photons) / t;
 }
 
 struct CollectionFigures {
@@ -177,6 +188,13 @@ int main(int argc, char** argv) {
         fig["thread_speedup_propagation"] = photons_per_s("2a", petzold, 0.9);
         photons_per_s("1a", RayleighPhase{}, 0.9);
         photons_per_s("2b", petzold, 0.2);
+#if SECCHI_HAS_LANES
+        // Problems 1a and 2a in double and float lanes, one core (--tracer lanes, lanes-float).
+        fig["photons_per_s_problem_1a_lanes"] = photons_per_second<LaneTracer>(RayleighPhase{}, 0.9, n2a, repeats);
+        fig["photons_per_s_problem_1a_float_lanes"] = photons_per_second<FloatLaneTracer>(RayleighPhase{}, 0.9, n2a, repeats);
+        fig["photons_per_s_problem_2a_lanes"] = photons_per_second<LaneTracer>(petzold, 0.9, n2a, repeats);
+        fig["photons_per_s_problem_2a_float_lanes"] = photons_per_second<FloatLaneTracer>(petzold, 0.9, n2a, repeats);
+#endif
 
         // Collection through a problem-2a map: vertical rays of length 8 from tau 1.
         const auto first = trace_slab<CompactRecord>(petzold, 0.9, 60, 1.34, n2a, 2, AbsorptionMode::continuous);

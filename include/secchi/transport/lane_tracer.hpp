@@ -50,8 +50,8 @@
 // uniforms are the top 24 bits of the same Philox words (uniform_float_from_bits), so a
 // photon's history follows the double lanes' one closely until rounding sends it another
 // way; positions, directions and weights are rounded to float between events, each a
-// relative 6e-8 (the map's records hold float positions anyway); the kernels (log, sin_cos,
-// rotation, HG, the direction bytes) are within bounds set by float rounding
+// relative 6e-8 (the map's records hold float positions anyway); the kernels (log, exp,
+// sin_cos, rotation, HG, the direction bytes) are within bounds set by float rounding
 // (tests/test_lane_tracer.cpp). A flight to the floor ends on float(floor depth), and a
 // detector plane on the bottom is the next float shallower, so the bottom's plane counts
 // every photon arriving (tested against the ledger). The tallies are summed in float per
