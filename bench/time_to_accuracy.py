@@ -12,7 +12,11 @@ the entry that limits the problem (larger is better; a run twice as long halves 
 Where no F of the ladder passes, the failing entries of the largest run are named.
 
     python3 bench/time_to_accuracy.py [--build build] [--stores voi-grid,voi,kdtree]
-        [--problems 1a,1b,2a,2b,3,4,5,6] [--scales 0.125,0.25,0.5,1,2] [--seed 1] [--md FILE]
+        [--problems 1a,1b,2a,2b,3,4,5,6] [--scales 0.125,0.25,0.5,1,2] [--seed 1]
+        [--tracer photon|lanes|lanes-float] [--md FILE]
+
+--tracer is canonical's (default photon): lanes and lanes-float trace every problem but 3 in
+SIMD lanes of doubles or floats (problem 3's stratified water always one photon at a time).
 
 The figure to compare with the performance goal is the total over the problems with the best
 store. Not a test: it measures this machine (bench/README.md).
@@ -25,10 +29,12 @@ import sys
 import tempfile
 
 
-def run(build, problem, store, scale, seed, workdir):
+def run(build, problem, store, scale, seed, tracer, workdir):
     out = os.path.join(workdir, f"tta_{problem}_{store}_{scale}.json")
     cmd = [os.path.join(build, "conformance", "canonical"), "--problem", problem, "--store", store,
            "--budget-scale", str(scale), "--seed", str(seed), "--threads", "2", "--json", out]  # 2a's EXR, 3's CSV: beside it
+    if problem != "3":  # (canonical refuses a tracer for problem 3 alone)
+        cmd += ["--tracer", tracer]
     status = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
     if status not in (0, 1):  # 1: some entry failed its bar (the run itself completed)
         raise SystemExit(f"{' '.join(cmd)}: exit status {status}")
@@ -50,6 +56,7 @@ def main():
     ap.add_argument("--problems", default="1a,1b,2a,2b,3,4,5,6")
     ap.add_argument("--scales", default="0.125,0.25,0.5,1,2")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--tracer", default="photon", choices=["photon", "lanes", "lanes-float"])
     ap.add_argument("--md", help="also write the markdown table here")
     a = ap.parse_args()
     scales = [float(s) for s in a.scales.split(",")]
@@ -62,7 +69,7 @@ def main():
         for problem in a.problems.split(","):
             for store in stores:
                 for scale in scales:
-                    seconds, entries = run(a.build, problem, store, scale, a.seed, work)
+                    seconds, entries = run(a.build, problem, store, scale, a.seed, a.tracer, work)
                     failing = [e for e in entries if not e["pass"]]
                     if not failing:
                         break

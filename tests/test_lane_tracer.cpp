@@ -206,6 +206,29 @@ TEST_CASE("exp in float lanes is within a few float ulp of exp") {
     for (int l = 0; l < float_width; ++l) CHECK((under[l] == 0.0f && far[l] == 0.0f));
 }
 
+TEMPLATE_TEST_CASE("LaneAbsorption's transmittance is exp(-a s), and 0 for long flights in strongly absorbing water",
+                   "", double, float) {
+    // Continuous absorption's free paths are -ln u / b, so a s reaches beyond exp's range where
+    // a >> b: there the transmittance is 0 (below e^-87 in floats, e^-707 in doubles), not
+    // whatever lanes::exp computes outside its range. Elsewhere within LaneAbsorption's bound:
+    // floats (a s + 8) 2^-24 relative; doubles exp_table's 2 ulp and std::exp's 1 (6 2^-53).
+    using T = TestType;
+    using V = lanes::LanesOf<T>;
+    constexpr int width = lanes::width_of<T>;
+    const LaneAbsorption<T> absorption{T(50.0)};
+    const std::vector<double> lengths{0.0, 1e-3, 0.1, 1.0, 1.7, 14.0, 14.2, 20.0, 100.0, 1e4, 1e30};
+    for (const double s : lengths) {
+        const V got = absorption.transmittance(V(T(s)));
+        const double exact = std::exp(-50.0 * double(T(s)));
+        const double bound = std::is_same_v<T, float> ? (50.0 * s + 8.0) * float_unit * exact : 6 * 0x1p-53 * exact;
+        for (int l = 0; l < width; ++l) {
+            INFO("s = " << s << ": " << got[l] << " against " << exact);
+            CHECK(std::abs(got[l] - exact) <= std::max(bound, std::is_same_v<T, float> ? 1.2e-38 : 1e-307));
+            CHECK(got[l] >= 0.0);
+        }
+    }
+}
+
 TEST_CASE("lookup_rows gives every lane its own row, column by column") {
     std::vector<Row8> rows(1000);
     for (std::size_t j = 0; j < rows.size(); ++j)

@@ -72,12 +72,23 @@ namespace secchi::SECCHI_ISA {
 /// transmittance exp(-a s) over path lengths s (lanes::exp, in Real). LaneTracer's weights decay
 /// by it with continuous absorption, and so do its detectors' scores on the way to their planes
 /// (IrradiancePlanes::record_lanes). In floats within a relative (a s + 8) 2^-24 of exp(-a s)
-/// (the product a s rounds once; lanes::exp is within 4 float ulp of exp).
+/// (the product a s rounds once; lanes::exp is within 4 float ulp of exp), 0 where a s > 87;
+/// in doubles exp_table's value (core/math.hpp), 0 where a s > 707 (e^-707 < 1e-307). (A flight
+/// is at most a free path long, -ln u / b with continuous absorption, so a s is large only in
+/// water that absorbs far more than it scatters.)
 template <class Real>
 struct LaneAbsorption {
     Real a;  ///< absorption coefficient (1/m)
     [[nodiscard]] SECCHI_KERNEL lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& s) const {
-        return lanes::exp(-a * s);
+        using V = lanes::LanesOf<Real>;
+        const V x = -a * s;
+        if constexpr (std::same_as<Real, float>) {
+            return lanes::exp(x);
+        } else {  // lanes::exp holds exp_table's values inside (-708, 709) only
+            V out = lanes::exp(lanes::stdx::max(x, V(-707.0)));
+            lanes::stdx::where(x < -707.0, out) = 0.0;
+            return out;
+        }
     }
 };
 
@@ -488,7 +499,6 @@ private:
         absorbed.copy_to(L.absorbed, aligned);
         weight.copy_to(L.w, aligned);
     }
-
 
     /// Equal-flux storage (EventPhysics::keeps, as PhotonTracer::store_event): an event is kept
     /// if u < w, with depth importance if u < w I(z) (I at the record's depth: the lane's span's
