@@ -378,14 +378,17 @@ SECCHI_KERNEL Reals exp(const Reals& x) {
                                   stdx::__proposed::simd_bit_cast<Reals>(two_m));
 }
 
-/// e^x for float lanes, x <= 88 (the weights' decay exp(-a s) in LaneTracer's continuous
-/// absorption): x = n ln 2 + r with n = round(x / ln 2) and |r| <= ln2/2 (ln 2 split in two as
-/// in log, so that n ln2_hi is exact for |n| < 2^8), e^r by its Taylor series to r^7
-/// (truncation below (ln2/2)^8 / 8! < 6e-9, relative), times 2^n made in the exponent bits.
-/// 0 below x = -87 (where 2^n would leave the normal floats). Within 4 float ulp of exp
-/// (tests/test_lane_tracer.cpp).
-SECCHI_KERNEL Floats exp(const Floats& x) {
+/// e^x for float lanes (the weights' decay exp(-a s) in LaneTracer's continuous absorption):
+/// x = n ln 2 + r with n = round(x / ln 2) and |r| <= ln2/2 (ln 2 split in two as in log, so
+/// that n ln2_hi is exact for |n| < 2^8), e^r by its Taylor series to r^7 (truncation below
+/// (ln2/2)^8 / 8! < 6e-9, relative), times 2^n made in the exponent bits. 0 below x = -87
+/// (where 2^n would leave the normal floats); x above 88 is taken as 88 (e^88 = 1.7e38, the
+/// largest power of e below the largest float). Within 4 float ulp of exp in [-87, 88]
+/// (tests/test_lane_tracer.cpp). (x is clamped to [-88, 88] before n is made an integer, which
+/// must fit in an int.)
+SECCHI_KERNEL Floats exp(const Floats& x_in) {
     using Ints32 = stdx::rebind_simd_t<std::int32_t, Floats>;
+    const Floats x = stdx::min(stdx::max(x_in, Floats(-88.0f)), Floats(88.0f));
     const Floats n = detail::round_to_integer(x * 1.44269504088896341f);
     constexpr float ln2_hi = 0.693145751953125f, ln2_lo = 1.428606765330187e-06f;
     const Floats r = (x - n * ln2_hi) - n * ln2_lo;
@@ -393,7 +396,7 @@ SECCHI_KERNEL Floats exp(const Floats& x) {
         1.0f + r * (1.0f + r * (1.0f / 2 + r * (1.0f / 6 + r * (1.0f / 24 + r * (1.0f / 120 + r * (1.0f / 720 + r * (1.0f / 5040)))))));
     const Ints32 exponent = (stdx::static_simd_cast<Ints32>(n) + Ints32(127)) << 23;
     Floats out = series * stdx::__proposed::simd_bit_cast<Floats>(exponent);
-    stdx::where(x < -87.0f, out) = 0.0f;
+    stdx::where(x_in < -87.0f, out) = 0.0f;
     return out;
 }
 
