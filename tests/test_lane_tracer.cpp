@@ -182,8 +182,9 @@ TEST_CASE("exp in lanes equals exp_table lane by lane") {
 }
 
 TEST_CASE("exp in float lanes is within a few float ulp of exp") {
-    // The weights' decay exp(-a s): arguments down to -17 (a <= c, s <= -ln(2^-24) / c) and
-    // the whole range of normal results; the reduction's ends; below -87, zero.
+    // The weights' decay exp(-a s) (with continuous absorption a s <= -ln(2^-24) a / b, so
+    // beyond -17 where a > b): the whole range of normal results, and [-17, 0] densely; the
+    // reduction's ends; below -87, zero.
     const auto u = uniforms(8192, 4);
     std::vector<float> x;
     for (const double v : u) x.push_back(static_cast<float>(-87.0 + 175.0 * v));
@@ -470,12 +471,6 @@ TEMPLATE_TEST_CASE("CompactRecords made in lanes equal CompactRecord::make byte 
 }
 
 namespace {
-/// record()'s absorber for a homogeneous water of absorption a (the Medium query it makes).
-struct ConstantAbsorber {
-    double a;
-    [[nodiscard]] double optical_path(Coefficient, double, double, double s) const { return a * s; }
-};
-
 /// record_lanes against record() lane by lane, without absorption along the flights (a = 0:
 /// NoAbsorption) or with LaneAbsorption's decay (a > 0). Detectors at the surface, in the water
 /// and on a bottom plane; flights up, down, level, and parked lanes that must not count.
@@ -495,6 +490,7 @@ double worst_record_lanes_excess(double a) {
     constexpr bool floats = std::is_same_v<T, float>;
     constexpr double floor = 6.0;
     const IrradiancePlanes layers({0.0, 1.0, 2.5, floor}, 0.05, floor);
+    const HomogeneousWater<HenyeyGreensteinPhase> water(a, 1.0, HenyeyGreensteinPhase(0.9));  // record()'s absorber
     const auto u = uniforms(5 * 2048, 5);
     double worst = 0;
     for (std::size_t i = 0; i + 5 * lane_width <= u.size(); i += 5 * lane_width) {
@@ -510,7 +506,7 @@ double worst_record_lanes_excess(double a) {
         else layers.record_lanes(z0, z1, uz, s, w, active, lane_tally.data(), LaneAbsorption<T>{T(a)});
         for (int l = 0; l < lane_width; ++l) {
             std::vector<IrradianceTally> ref(layers.size(), IrradianceTally{});
-            if (active[l]) layers.record(Flight{z0[l], z1[l], uz[l], s[l], w[l]}, ConstantAbsorber{a}, ref.data());
+            if (active[l]) layers.record(Flight{z0[l], z1[l], uz[l], s[l], w[l]}, water, ref.data());
             for (std::size_t d = 0; d < layers.size(); ++d) {
                 const double depth = layers.depths()[d], mu = std::abs(uz[l]);
                 const double to_plane = mu == 0.0 ? 0.0 : std::abs(depth - z0[l]) / mu;
