@@ -1,10 +1,12 @@
 #include <catch2/catch.hpp>
 #include "secchi/core/stats.hpp"
+#include "secchi/scene/any_surface.hpp"
 #include "secchi/scene/flat_surface.hpp"
 #include "secchi/scene/sky.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/scene/slab.hpp"
 #include "secchi/scene/sun.hpp"
+#include "random_draws.hpp"
 #include <vector>
 
 using namespace secchi;
@@ -327,4 +329,46 @@ TEST_CASE("A calm axis (Cox and Munk at U = 0: no upwind slope) gives level face
             CHECK(h.reflected.x == Approx(d.x).margin(1e-12));
         }
     }
+}
+
+namespace {
+bool same_hit(const SurfaceHit& a, const SurfaceHit& b) {
+    return a.reflectance == b.reflectance && a.reflected == b.reflected && a.transmitted == b.transmitted;
+}
+}  // namespace
+
+TEST_CASE("A surface chosen at run time (AnySurface) hits, hides and draws as the surface it holds, bit for bit") {
+    const FlatSurface flat(1.34);
+    const WindBlownSurface waves(FacetSlopes::cox_munk(7.0, 30.0), 1.33, FacetSampling::projected_area, 1.0,
+                                 Shadowing::smith);
+    const AnySurface any_flat = flat, any_waves = waves;
+    CHECK(any_flat.water_index() == 1.34);
+    CHECK(any_waves.water_index() == 1.33);
+    CHECK(any_flat.get_if<FlatSurface>() != nullptr);
+    CHECK(any_waves.get_if<FlatSurface>() == nullptr);
+    CHECK_FALSE(any_flat.hides());
+    CHECK(any_waves.hides());
+    CHECK_FALSE(AnySurface(WindBlownSurface(0.04)).hides());
+
+    // Random directions from either side: the same hit, the same hiding, and the same draws
+    // taken from the photon's stream (the next uniform after them agrees too).
+    testing::Rand rand(11);
+    PhotonRng direct_rng(5, 9), any_rng(5, 9), flat_rng(5, 9), any_flat_rng(5, 9);
+    for (int i = 0; i < 2000; ++i) {
+        const Side side = i % 2 == 0 ? Side::air : Side::water;
+        const vec3 d = rand.direction_against({0.0, 0.0, 1.0}, side == Side::air ? 1.0 : -1.0);
+        REQUIRE(same_hit(waves.hit(d, side, direct_rng), any_waves.hit(d, side, any_rng)));
+        REQUIRE(waves.hidden(-d, direct_rng) == any_waves.hidden(-d, any_rng));
+        REQUIRE(same_hit(flat.hit(d, side, flat_rng), any_flat.hit(d, side, any_flat_rng)));
+        REQUIRE_FALSE(any_flat.hidden(-d, any_flat_rng));
+    }
+    CHECK(direct_rng.uniform() == any_rng.uniform());
+    CHECK(flat_rng.uniform() == any_flat_rng.uniform());
+
+    // The sun's hit is fixed (computed once by the tracer) where the surface held draws nothing.
+    const vec3 sun = CollimatedSun(40.0).direction();
+    PhotonRng unused(0, 0);
+    REQUIRE(any_flat.fixed_hit(sun).has_value());
+    CHECK(same_hit(*any_flat.fixed_hit(sun), flat.hit(sun, Side::air, unused)));
+    CHECK_FALSE(any_waves.fixed_hit(sun).has_value());
 }

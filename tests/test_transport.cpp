@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/scene/any_surface.hpp"
 #include "secchi/scene/sky.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/tracer.hpp"
@@ -30,12 +31,24 @@ TransportResult<CompactRecord> run(const Phase& phase, double w0, TransportSetti
 }
 /// HG water of albedo w0 over a Lambertian bottom under a wind-blown surface (problem 5's
 /// sigma^2 = 0.04) and a sun at 80 deg, whose photons meet tilted facets and re-cross the surface.
+/// Surface: the tracer's surface type, WindBlownSurface or AnySurface holding it.
+template <class Surface = WindBlownSurface>
 TransportResult<CompactRecord> run_wind_blown(TransportSettings s, Shadowing shadowing = Shadowing::none) {
     using Water = HomogeneousWater<HenyeyGreensteinPhase>;
     const auto medium = Water::from_albedo(1.0, 0.5, HenyeyGreensteinPhase(0.7));
     const Slab slab(1.0, Bottom::lambertian_at(6.0, 0.4), 30.0);
-    const WindBlownSurface surface(FacetSlopes::isotropic(0.04), 1.34, FacetSampling::projected_area, 1.0, shadowing);
-    return PhotonTracer<Water, CompactRecord, WindBlownSurface>(medium, slab, surface, CollimatedSun(80.0), s).run();
+    const Surface surface = WindBlownSurface(FacetSlopes::isotropic(0.04), 1.34, FacetSampling::projected_area, 1.0, shadowing);
+    return PhotonTracer<Water, CompactRecord, Surface>(medium, slab, surface, CollimatedSun(80.0), s).run();
+}
+/// HG water over a Lambertian bottom under a flat surface, lit by a sun at 30 deg and a uniform
+/// sky (whose photons meet the surface at their own angles). Surface: FlatSurface or AnySurface.
+template <class Surface>
+TransportResult<CompactRecord> run_flat_sun_and_sky(TransportSettings s) {
+    using Water = HomogeneousWater<HenyeyGreensteinPhase>;
+    const auto medium = Water::from_albedo(1.0, 0.8, HenyeyGreensteinPhase(0.9));
+    const Slab slab(1.0, Bottom::lambertian_at(4.0, 0.3), 30.0);
+    const Surface surface = FlatSurface(1.34);
+    return PhotonTracer<Water, CompactRecord, Surface>(medium, slab, surface, CollimatedSun(30.0), s, UniformSky(0.4)).run();
 }
 TransportResult<CompactRecord> run_wind_blown_hiding(TransportSettings s) { return run_wind_blown(s, Shadowing::smith); }
 bool within_se(const Estimate& e, double exact, double k = 4.0) {
@@ -138,6 +151,26 @@ TEST_CASE("Under a wind-blown surface the absorption modes agree within their st
 TEST_CASE("Under a wind-blown surface results are bit-identical for 1 and 2 threads", "[threads]") {
     testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, [](TransportSettings s) { return run_wind_blown(s); });
     testing::require_same_for_1_and_2_threads(AbsorptionMode::continuous, run_wind_blown_hiding);
+}
+
+TEST_CASE("A surface chosen at run time (AnySurface, as the plane-parallel solver holds it) traces bit for bit as the surface it holds") {
+    const auto require_same = [](const TransportResult<CompactRecord>& a, const TransportResult<CompactRecord>& b) {
+        testing::require_identical(a, b);
+        REQUIRE(a.above.ed_direct.value == b.above.ed_direct.value);
+        REQUIRE(a.above.ed_diffuse.value == b.above.ed_diffuse.value);
+        REQUIRE(a.above.eu.value == b.above.eu.value);
+        REQUIRE(a.ledger.surface_reflected == b.ledger.surface_reflected);
+        REQUIRE(a.ledger.escaped_up == b.ledger.escaped_up);
+    };
+    for (const AbsorptionMode mode : {AbsorptionMode::analog, AbsorptionMode::implicit_capture, AbsorptionMode::continuous}) {
+        TransportSettings s;
+        s.photons = s.map_photons = 20000;
+        s.depths = {0.0, 0.5, 3.0};
+        s.absorption = mode;
+        require_same(run_flat_sun_and_sky<FlatSurface>(s), run_flat_sun_and_sky<AnySurface>(s));
+        for (const Shadowing shadowing : {Shadowing::none, Shadowing::smith})
+            require_same(run_wind_blown<WindBlownSurface>(s, shadowing), run_wind_blown<AnySurface>(s, shadowing));
+    }
 }
 
 TEST_CASE("Waves hiding the light leaving a wind-blown surface: the ledger closes, modes agree, less of a grazing sun is reflected") {

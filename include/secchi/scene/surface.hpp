@@ -8,7 +8,7 @@
 // water side). Models: FlatSurface (flat_surface.hpp), WindBlownSurface (wind_blown_surface.hpp).
 // A surface with geometry (GeometricSurface: SinusoidalWave, wave_surface.hpp; WaveSum,
 // wave_sum.hpp) is met where a photon's path crosses it, at its local normal, instead of on the
-// mean plane.
+// mean plane. AnySurface (any_surface.hpp) holds a flat or wind-blown surface chosen at run time.
 #include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/core/rng.hpp"
@@ -37,7 +37,9 @@ struct SurfaceHit {
 
 /// A surface policy: hit(direction, side, rng) for a photon arriving from `side`, and
 /// random_facets, false when a hit draws no random numbers (the tracer then computes the sun's
-/// photons' hit once).
+/// photons' hit once). A surface whose kind is known only at run time (AnySurface,
+/// any_surface.hpp) has random_facets true and may say by fixed_hit(direction), an optional
+/// SurfaceHit, where a hit from the air draws nothing after all.
 template <class S>
 concept AirWaterSurface = requires(const S& s, const vec3& dir, Side side, PhotonRng& rng) {
     { s.hit(dir, side, rng) } -> std::same_as<SurfaceHit>;

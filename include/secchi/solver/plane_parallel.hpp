@@ -37,7 +37,7 @@
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/optics/phase/cone_average.hpp"
 #include "secchi/scene/any_source.hpp"
-#include "secchi/scene/wind_blown_surface.hpp"
+#include "secchi/scene/any_surface.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <algorithm>
 #include <chrono>
@@ -234,14 +234,18 @@ double water_index_of(const M& medium, const PlaneParallelConfig& cfg) {
     return 1.34;
 }
 
-/// The first pass through the surface cfg describes: flat (no slopes), or wind-blown.
+/// The surface cfg describes: flat (no slopes), or wind-blown.
+inline AnySurface surface_of(double water_index, const PlaneParallelConfig& cfg) {
+    if (cfg.slopes.flat()) return FlatSurface(water_index);
+    return WindBlownSurface(cfg.slopes, water_index, cfg.facets, 1.0, cfg.shadowing);
+}
+
+/// The first pass through the surface cfg describes, held as an AnySurface (one dispatch per
+/// photon at the surface), so that each tracer is compiled once for both kinds.
 template <PhotonRecord Record, Medium M, class Split = SingleProcess>
 TransportResult<Record> first_pass(const M& medium, const Slab& slab, const AnySource& source,
                                    const PlaneParallelConfig& cfg, const Split& split = {}) {
-    const double n = water_index_of(medium, cfg);
-    if (!cfg.slopes.flat())
-        return first_pass_through<Record>(medium, slab, WindBlownSurface(cfg.slopes, n, cfg.facets, 1.0, cfg.shadowing), source, cfg, split);
-    return first_pass_through<Record>(medium, slab, FlatSurface(n), source, cfg, split);
+    return first_pass_through<Record>(medium, slab, surface_of(water_index_of(medium, cfg), cfg), source, cfg, split);
 }
 
 /// Eou at a depth on a Lambertian bottom: everything travelling up there has just left the

@@ -632,13 +632,14 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     }
 
     /// The hit of a photon of the source's collimated beam: computed once when it draws no
-    /// random numbers.
+    /// random numbers (a surface chosen at run time, AnySurface, says so by fixed_hit).
     SurfaceHit sun_hit(PhotonRng& rng) const requires(!wavy) {
-        if constexpr (Surface::random_facets) return surface_.hit(sun_direction_, Side::air, rng);
+        if constexpr (Surface::random_facets) return sun_hit_ ? *sun_hit_ : surface_.hit(sun_direction_, Side::air, rng);
         else return *sun_hit_;
     }
     static std::optional<SurfaceHit> fixed_sun_hit(const Surface& surface, const vec3& sun_direction) {
         if constexpr (wavy) return std::nullopt;  // met at a different facet by every photon
+        else if constexpr (requires { surface.fixed_hit(sun_direction); }) return surface.fixed_hit(sun_direction);
         else if constexpr (Surface::random_facets) return std::nullopt;
         else {
             PhotonRng unused(0, 0);
