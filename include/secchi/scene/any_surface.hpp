@@ -9,7 +9,6 @@
 #include "secchi/scene/surface.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include <optional>
-#include <type_traits>
 #include <variant>
 
 namespace secchi::SECCHI_ISA {
@@ -32,15 +31,7 @@ public:
     /// The hit of every photon arriving from the air along `dir` where the surface held draws
     /// no random numbers for it (random_facets false: the flat surface), else nothing.
     [[nodiscard]] std::optional<SurfaceHit> fixed_hit(const vec3& dir) const {
-        return std::visit(
-            [&](const auto& s) -> std::optional<SurfaceHit> {
-                if constexpr (std::remove_cvref_t<decltype(s)>::random_facets) return std::nullopt;
-                else {
-                    PhotonRng unused(0, 0);
-                    return s.hit(dir, Side::air, unused);
-                }
-            },
-            surface_);
+        return std::visit([&](const auto& s) { return fixed_hit_from_air(s, dir); }, surface_);
     }
 
     /// Whether light leaving the surface may be hidden by the other waves (WindBlownSurface's

@@ -47,6 +47,19 @@ concept AirWaterSurface = requires(const S& s, const vec3& dir, Side side, Photo
     { S::random_facets } -> std::convertible_to<bool>;
 };
 
+/// The hit of every photon arriving from the air along `dir` where the surface draws no random
+/// numbers for it (random_facets false, or a run-time surface's fixed_hit says so), computed
+/// once; nothing where each photon meets its own facet.
+template <AirWaterSurface S>
+std::optional<SurfaceHit> fixed_hit_from_air(const S& surface, const vec3& dir) {
+    if constexpr (requires { surface.fixed_hit(dir); }) return surface.fixed_hit(dir);
+    else if constexpr (S::random_facets) return std::nullopt;
+    else {
+        PhotonRng unused(0, 0);
+        return surface.hit(dir, Side::air, unused);
+    }
+}
+
 /// A surface policy with geometry, lying between depths crest_depth() (<= 0) and
 /// trough_depth() (>= 0): first_crossing(o, d, side, t_max) is the first distance t in
 /// (0, t_max] at which the ray o + t d, starting on `side`, reaches the surface (or nothing);

@@ -631,20 +631,15 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
         else return false;
     }
 
-    /// The hit of a photon of the source's collimated beam: computed once when it draws no
-    /// random numbers (a surface chosen at run time, AnySurface, says so by fixed_hit).
+    /// The hit of a photon of the source's collimated beam: computed once where it draws no
+    /// random numbers (fixed_hit_from_air, scene/surface.hpp).
     SurfaceHit sun_hit(PhotonRng& rng) const requires(!wavy) {
         if constexpr (Surface::random_facets) return sun_hit_ ? *sun_hit_ : surface_.hit(sun_direction_, Side::air, rng);
         else return *sun_hit_;
     }
     static std::optional<SurfaceHit> fixed_sun_hit(const Surface& surface, const vec3& sun_direction) {
         if constexpr (wavy) return std::nullopt;  // met at a different facet by every photon
-        else if constexpr (requires { surface.fixed_hit(sun_direction); }) return surface.fixed_hit(sun_direction);
-        else if constexpr (Surface::random_facets) return std::nullopt;
-        else {
-            PhotonRng unused(0, 0);
-            return surface.hit(sun_direction, Side::air, unused);
-        }
+        else return fixed_hit_from_air(surface, sun_direction);
     }
     static constexpr int max_surface_hits = 64;
 
