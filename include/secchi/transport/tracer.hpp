@@ -634,8 +634,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// The hit of a photon of the source's collimated beam: computed once where it draws no
     /// random numbers (fixed_hit_from_air, scene/surface.hpp).
     SurfaceHit sun_hit(PhotonRng& rng) const requires(!wavy) {
-        if constexpr (Surface::random_facets) return sun_hit_ ? *sun_hit_ : surface_.hit(sun_direction_, Side::air, rng);
-        else return *sun_hit_;
+        return sun_hit_ ? *sun_hit_ : surface_.hit(sun_direction_, Side::air, rng);
     }
     static std::optional<SurfaceHit> fixed_sun_hit(const Surface& surface, const vec3& sun_direction) {
         if constexpr (wavy) return std::nullopt;  // met at a different facet by every photon
