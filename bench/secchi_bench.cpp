@@ -17,6 +17,7 @@
 // memory system as the collection's stores do.
 #include "bench_problems.hpp"
 #include "bench_timing.hpp"
+#include "problem3.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/io/json_writer.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
@@ -64,6 +65,24 @@ double photons_per_second(const Phase& phase, double w0, std::uint64_t photons, 
                          trace_slab<CompactRecord, Tracer>(phase, w0, 60, 1.34, photons, 1, AbsorptionMode::continuous);
                      }).median;
     return static_cast<double>(photons) / t;
+}
+
+/// Photons per second of canonical problem 3's first pass on one core (its stratified water at
+/// 500 nm with nodes every 5 cm to 100 m, as canonical's; sun at 60 deg, n = 1.34, continuous
+/// absorption, detectors at 5, 25 and 60 m, no depth importance) by Tracer.
+template <template <class...> class Tracer>
+double problem3_photons_per_second(std::uint64_t photons, int repeats) {
+    const auto water = iop::stratify_typed(conformance::problem3_model(), conformance::problem3_wavelength_nm,
+                                           iop::uniform_depths(100.0, 0.05));
+    using Water = std::decay_t<decltype(water)>;
+    TransportSettings s;
+    s.photons = s.map_photons = photons;
+    s.threads = 1;
+    s.absorption = AbsorptionMode::continuous;
+    s.depths = {5.0, 25.0, 60.0};
+    const Tracer<Water, CompactRecord> tracer(water, Slab(section_width, Bottom{}, 100.0), FlatSurface(1.34),
+                                              CollimatedSun(60.0), s);
+    return static_cast<double>(photons) / time_runs(repeats, [&] { tracer.run(); }).median;
 }
 
 struct CollectionFigures {
@@ -194,6 +213,13 @@ int main(int argc, char** argv) {
         fig["photons_per_s_problem_1a_float_lanes"] = photons_per_second<FloatLaneTracer>(RayleighPhase{}, 0.9, n2a, repeats);
         fig["photons_per_s_problem_2a_lanes"] = photons_per_second<LaneTracer>(petzold, 0.9, n2a, repeats);
         fig["photons_per_s_problem_2a_float_lanes"] = photons_per_second<FloatLaneTracer>(petzold, 0.9, n2a, repeats);
+#endif
+        // Problem 3 (stratified water), one core, one photon at a time and in double and float lanes.
+        const std::uint64_t n3 = 50'000 * scale;
+        fig["photons_per_s_problem_3"] = problem3_photons_per_second<PhotonTracer>(n3, repeats);
+#if SECCHI_HAS_LANES
+        fig["photons_per_s_problem_3_lanes"] = problem3_photons_per_second<LaneTracer>(n3, repeats);
+        fig["photons_per_s_problem_3_float_lanes"] = problem3_photons_per_second<FloatLaneTracer>(n3, repeats);
 #endif
 
         // Collection through a problem-2a map: vertical rays of length 8 from tau 1.

@@ -15,8 +15,8 @@ Where no F of the ladder passes, the failing entries of the largest run are name
         [--problems 1a,1b,2a,2b,3,4,5,6] [--scales 0.125,0.25,0.5,1,2] [--seed 1]
         [--tracer photon|lanes|lanes-float] [--md FILE]
 
---tracer is canonical's (default photon): lanes and lanes-float trace every problem but 3 in
-SIMD lanes of doubles or floats (problem 3's stratified water always one photon at a time).
+--tracer is canonical's (default photon): lanes and lanes-float trace every problem in SIMD
+lanes of doubles or floats.
 
 The figure to compare with the performance goal is the total over the problems with the best
 store. Not a test: it measures this machine (bench/README.md).
@@ -32,9 +32,8 @@ import tempfile
 def run(build, problem, store, scale, seed, tracer, workdir):
     out = os.path.join(workdir, f"tta_{problem}_{store}_{scale}.json")
     cmd = [os.path.join(build, "conformance", "canonical"), "--problem", problem, "--store", store,
-           "--budget-scale", str(scale), "--seed", str(seed), "--threads", "2", "--json", out]  # 2a's EXR, 3's CSV: beside it
-    if problem != "3":  # (canonical refuses a tracer for problem 3 alone)
-        cmd += ["--tracer", tracer]
+           "--budget-scale", str(scale), "--seed", str(seed), "--threads", "2", "--json", out,  # 2a's EXR, 3's CSV: beside it
+           "--tracer", tracer]
     status = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
     if status not in (0, 1):  # 1: some entry failed its bar (the run itself completed)
         raise SystemExit(f"{' '.join(cmd)}: exit status {status}")

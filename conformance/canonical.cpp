@@ -75,10 +75,10 @@ photon_map_2a.exr beside the JSON file) receives the photon map of problem 2a.
 problems 2a, 2b, 3, 4, 5 and 6 (default petzold, the canonical reading of M93 Table 2: all 55 nodes,
 p linear in angle, p(0.1 deg) below 0.1 deg; the others are M93's power-law readings, for
 showing the sensitivity: canonical_problems.md, problem 2).
---tracer {tracers} (default photon): lanes traces problems 1a, 1b, 2a, 2b, 4, 5, 6 and kirk with
-LaneTracer (photons in SIMD lanes of doubles, with their depth importance and 2b's backscatter
-bias), lanes-float in lanes of floats; problem 3's stratified water is always traced by
-PhotonTracer.
+--tracer {tracers} (default photon): lanes traces every problem and kirk with LaneTracer
+(photons in SIMD lanes of doubles, with their depth importance and 2b's backscatter bias; in
+problem 3's stratified water the free paths, albedos and phase samples lane by lane),
+lanes-float in lanes of floats.
 --problem kirk (also in all) checks the first pass against Kirk's AOP relations
 (canonical_problems.md section 7, manual 7.5; no photon map, so --store is not taken for it
 alone): sun at nadir, level surface, canonical Petzold, a = 1 /m, b for k = b_b/(a + b_b) =
@@ -235,8 +235,7 @@ PlaneParallelConfig config_for(const ProblemSpec& p, const CommandLine& cl, bool
     t.upward_importance = cl.number("upward-importance", 0.0);
     t.upward_lobe = cl.number("upward-lobe", t.upward_lobe);
     cfg.store = parse_store(cl.required_text("store"));
-    // LaneTracer for the homogeneous problems; problem 3's stratified water is PhotonTracer's.
-    if (p.id != "3") cfg.tracer = parse_tracer(cl.text("tracer", "photon"));
+    cfg.tracer = parse_tracer(cl.text("tracer", "photon"));
     // The backscatter bias needs homogeneous water whose phase function names its backward
     // uniforms (the Petzold tables here): checked before any problem runs.
     if (t.backscatter_bias > 0.0 && (p.id == "3" || p.phase != "petzold"))
@@ -643,7 +642,7 @@ void reject_options_without_effect(const CommandLine& cl, const std::string& whi
     const std::vector<std::string> table5 = {"1a", "1b", "2a", "2b", "3", "4", "5", "6"};
     const std::vector<ForProblems> table = {
         {"exr", {"2a"}}, {"profile-csv", {"3"}}, {"material", {"3"}}, {"material-entry", {"3"}},
-        {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "4", "5", "6", "kirk"}},
+        {"petzold", {"2a", "2b", "3", "4", "5", "6"}}, {"tracer", {"1a", "1b", "2a", "2b", "3", "4", "5", "6", "kirk"}},
         {"facets", {"5"}}, {"aerosol-g", {"4"}}, {"aerosol-albedo", {"4"}}, {"aerosol-scale-height", {"4"}},
         // Table 5's problems, not Kirk's runs (whose budget is --photons alone, and which trace
         // the first pass only: no photon map, so no store).

@@ -6,6 +6,8 @@
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
+#include "secchi/optics/phase/rayleigh.hpp"
+#include "secchi/optics/stratified_water.hpp"
 #include "secchi/transport/event_physics.hpp"
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -143,6 +145,8 @@ void check_lanes_against_scalar(AbsorptionMode mode, double floor_depth, double 
         const double w0 = 0.9;
         const FreeFlight<Reals> f = physics.free_flight(z, uz, s);
         const Absorption<Reals> a = physics.absorb(w, u, w0);
+        const Reals albedo = T(0.5) + T(0.5) * s / (s + T(1));  // each lane's own w0 (depth-varying water)
+        const Absorption<Reals> a_own = physics.absorb(w, u, albedo);
         const auto keep = physics.keeps(w, u, z);
         const auto beyond = physics.beyond_order(order);
         const auto due = physics.roulette_due(w);
@@ -157,6 +161,10 @@ void check_lanes_against_scalar(AbsorptionMode mode, double floor_depth, double 
             REQUIRE(same_bits(as.w, T(a.w[l])));
             REQUIRE(same_bits(as.absorbed, T(a.absorbed[l])));
             REQUIRE(as.ends == bool(a.ends[l]));
+            const Absorption<T> own = physics.absorb(in[l].w, in[l].u, T(albedo[l]));
+            REQUIRE(same_bits(own.w, T(a_own.w[l])));
+            REQUIRE(same_bits(own.absorbed, T(a_own.absorbed[l])));
+            REQUIRE(own.ends == bool(a_own.ends[l]));
             REQUIRE(physics.keeps(in[l].w, in[l].u, in[l].z) == bool(keep[l]));
             REQUIRE(physics.beyond_order(in[l].order) == bool(beyond[l]));
             REQUIRE(physics.roulette_due(in[l].w) == bool(due[l]));
@@ -176,6 +184,51 @@ TEST_CASE("the rules in lanes equal the rules per photon, bit for bit", "[event_
             check_lanes_against_scalar<double>(mode, 5.0, map_depth);
             check_lanes_against_scalar<float>(mode, 5.0, map_depth);
         }
+}
+
+namespace {
+/// Water of two scattering components whose shares change with depth: Rayleigh (no lane
+/// sampler: lane by lane) and `particles` (sampled in the vectors).
+template <class Particles>
+StratifiedWater<RayleighPhase, Particles> two_components(const Particles& particles) {
+    DepthProfile p;
+    p.depth = {0.0, 2.0, 5.0};
+    p.absorption = {0.1, 0.1, 0.1};
+    p.scattering = {{0.5, 0.5, 0.5}, {0.1, 3.0, 0.5}};
+    return {p, {RayleighPhase{}, particles}};
+}
+
+/// The mixture's angles in lanes of T against the scalar sampler at each lane's depth and
+/// uniforms: the same component (lane by lane in double), cos psi and phi to the lanes'
+/// precision (float lanes round the rescaled uniform to float: 6e-8 relative, times the
+/// inverse CDF's slope, at most 1 / (2 pi min p) ~ 80 for Petzold).
+template <class T, class Water>
+void check_mixture_angles(const Water& water) {
+    using Reals = lanes::LanesOf<T>;
+    constexpr int width = lanes::width_of<T>;
+    std::mt19937_64 gen(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::size_t chose[2] = {0, 0};
+    for (int round = 0; round < 3000; ++round) {
+        const Reals z([&](int) { return static_cast<T>(6.0 * unit(gen)); });
+        const Reals u([&](int) { return static_cast<T>(unit(gen)); }), v([&](int) { return static_cast<T>(unit(gen)); });
+        const ScatteringAngles<Reals> lanes = EventPhysics::angles(water, z, u, v);
+        for (int l = 0; l < width; ++l) {
+            const ScatteringAngles<double> one = EventPhysics::angles(water, double(z[l]), double(u[l]), double(v[l]));
+            ++chose[water.choose(double(z[l]), double(u[l])).index];
+            REQUIRE(double(lanes.cos_psi[l]) == Approx(one.cos_psi).margin(std::is_same_v<T, float> ? 2e-5 : 1e-10));
+            REQUIRE(double(lanes.phi[l]) == Approx(one.phi).margin(std::is_same_v<T, float> ? 1e-5 : 1e-14));
+        }
+    }
+    CHECK(chose[0] > 1000);  // both components drawn often
+    CHECK(chose[1] > 1000);
+}
+}  // namespace
+
+TEMPLATE_TEST_CASE("A mixture's angles in lanes are its components' samples lane by lane", "[event_physics][lanes]",
+                   double, float) {
+    check_mixture_angles<TestType>(two_components(HenyeyGreensteinPhase(0.85)));
+    check_mixture_angles<TestType>(two_components(petzold_m93()));
 }
 
 TEST_CASE("float flights to the floor end on float(floor depth) exactly", "[event_physics][lanes]") {

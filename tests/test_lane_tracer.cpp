@@ -6,6 +6,8 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
+#include "secchi/optics/phase/rayleigh.hpp"
+#include "secchi/optics/stratified_water.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/transport/lane_tracer.hpp"
 #include "transport_checks.hpp"
@@ -219,7 +221,7 @@ TEMPLATE_TEST_CASE("LaneAbsorption's transmittance is exp(-a s), and 0 for long 
     const LaneAbsorption<T> absorption{T(50.0)};
     const std::vector<double> lengths{0.0, 1e-3, 0.1, 1.0, 1.7, 14.0, 14.2, 20.0, 100.0, 1e4, 1e30};
     for (const double s : lengths) {
-        const V got = absorption.transmittance(V(T(s)));
+        const V got = absorption.transmittance(V(T(0)), V(T(1)), V(T(s)));
         const double exact = std::exp(-50.0 * double(T(s)));
         const double bound = std::is_same_v<T, float> ? (50.0 * s + 8.0) * float_unit * exact : 6 * 0x1p-53 * exact;
         for (int l = 0; l < width; ++l) {
@@ -483,14 +485,15 @@ namespace {
 /// (3 a s + 8) u (s = (d - z0) / uz and a s round once each, lanes::exp within 4 float ulp)
 /// and by a |d_float - d| / |uz| where the float lanes' plane lies elsewhere: on the bottom, the
 /// next float shallower than the floor.
-template <class T>
-double worst_record_lanes_excess(double a) {
+/// `water`: record()'s absorber, `decay` the lanes' (LaneAbsorption or LaneMediumAbsorption);
+/// a: the water's largest absorption coefficient (0: none, the flights' weights do not decay).
+template <class T, class Water, class LaneDecay>
+double worst_record_lanes_excess(const Water& water, double a, const LaneDecay& decay) {
     using V = lanes::LanesOf<T>;
     constexpr int lane_width = lanes::width_of<T>;
     constexpr bool floats = std::is_same_v<T, float>;
     constexpr double floor = 6.0;
     const IrradiancePlanes layers({0.0, 1.0, 2.5, floor}, 0.05, floor);
-    const HomogeneousWater<HenyeyGreensteinPhase> water(a, 1.0, HenyeyGreensteinPhase(0.9));  // record()'s absorber
     const auto u = uniforms(5 * 2048, 5);
     double worst = 0;
     for (std::size_t i = 0; i + 5 * lane_width <= u.size(); i += 5 * lane_width) {
@@ -503,7 +506,7 @@ double worst_record_lanes_excess(double a) {
         const auto active = lanes_of<V>([&](int l) { return at(4, l); }) < T(0.9);
         std::vector<std::array<V, 4>> lane_tally(layers.size(), {V(T(0)), V(T(0)), V(T(0)), V(T(0))});
         if (a == 0.0) layers.record_lanes(z0, z1, uz, s, w, active, lane_tally.data());
-        else layers.record_lanes(z0, z1, uz, s, w, active, lane_tally.data(), LaneAbsorption<T>{T(a)});
+        else layers.record_lanes(z0, z1, uz, s, w, active, lane_tally.data(), decay);
         for (int l = 0; l < lane_width; ++l) {
             std::vector<IrradianceTally> ref(layers.size(), IrradianceTally{});
             if (active[l]) layers.record(Flight{z0[l], z1[l], uz[l], s[l], w[l]}, water, ref.data());
@@ -521,12 +524,31 @@ double worst_record_lanes_excess(double a) {
     }
     return worst;
 }
+
+/// The same in homogeneous water of absorption a.
+template <class T>
+double worst_record_lanes_excess(double a) {
+    const HomogeneousWater<HenyeyGreensteinPhase> water(a, 1.0, HenyeyGreensteinPhase(0.9));
+    return worst_record_lanes_excess<T>(water, a, LaneAbsorption<T>{T(a)});
+}
+
+/// Water whose absorption changes with depth (linear between nodes, a jump at 2 m, constant
+/// below 3 m), up to 2 /m: the flights' decay through the medium's optical path.
+StratifiedWater<HenyeyGreensteinPhase> absorbing_layers() {
+    DepthProfile p;
+    p.depth = {0.0, 1.0, 2.0, 2.0, 3.0};
+    p.absorption = {0.1, 2.0, 0.5, 1.5, 0.3};
+    p.scattering = {{1.0, 1.0, 1.0, 1.0, 1.0}};
+    return {p, {HenyeyGreensteinPhase(0.9)}};
+}
 }  // namespace
 
 TEMPLATE_TEST_CASE("record_lanes tallies what record() tallies, lane by lane", "", double, float) {
     CHECK(worst_record_lanes_excess<TestType>(0.0) <= 0.0);
     CHECK(worst_record_lanes_excess<TestType>(0.3) <= 0.0);
     CHECK(worst_record_lanes_excess<TestType>(2.0) <= 0.0);
+    const auto layers = absorbing_layers();
+    CHECK(worst_record_lanes_excess<TestType>(layers, 2.0, LaneMediumAbsorption<decltype(layers), TestType>{layers}) <= 0.0);
 }
 
 namespace {
@@ -821,6 +843,55 @@ TEST_CASE("LaneTracer with backscatter bias is bit-identical for 1 and 2 threads
     testing::require_same_for_1_and_2_threads(AbsorptionMode::implicit_capture, [&](const TransportSettings& s) {
         return trace<FloatLaneTracer>(petzold_m93(), with_bias(s), Bottom::lambertian_at(8.0, 0.3));
     });
+}
+
+namespace {
+/// Problem 3's kind of water (canonical_problems.md): a Rayleigh component (the water's) and a
+/// particle component whose scattering, with the absorption, peaks at depth, and a jump at 6 m
+/// (two layers of different water).
+using LayeredWater = StratifiedWater<RayleighPhase, HenyeyGreensteinPhase>;
+LayeredWater layered_water() {
+    DepthProfile p;
+    p.depth = {0.0, 2.0, 4.0, 6.0, 6.0, 10.0};
+    p.absorption = {0.1, 0.4, 0.2, 0.2, 0.6, 0.3};
+    p.scattering = {{0.3, 0.3, 0.3, 0.3, 0.3, 0.3}, {0.5, 2.0, 1.0, 1.0, 0.2, 0.8}};
+    return {p, {RayleighPhase{}, HenyeyGreensteinPhase(0.85)}};
+}
+
+/// `Tracer` against PhotonTracer in depth-varying water (free paths through the medium's optical
+/// depth, the albedo at each event's depth, the two phase functions mixed by depth, and with
+/// continuous absorption the decay along flights and to the detectors' planes), in every
+/// absorption mode and with depth importance, over a Lambertian bottom below the jump.
+template <template <class...> class Tracer>
+void check_agrees_in_stratified_water() {
+    const LayeredWater water = layered_water();
+    const Slab slab(1.0, Bottom::lambertian_at(12.0, 0.3), 30.0);
+    struct Case {
+        AbsorptionMode mode;
+        bool importance;
+    };
+    for (const Case c : {Case{AbsorptionMode::analog, false}, Case{AbsorptionMode::implicit_capture, false},
+                         Case{AbsorptionMode::continuous, false}, Case{AbsorptionMode::continuous, true}}) {
+        TransportSettings s;
+        s.photons = s.map_photons = 40000;
+        s.depths = {0.0, 1.0, 3.0, 6.0, 9.0, 12.0};
+        s.absorption = c.mode;
+        if (c.importance) s.importance = {0.7, 9.0};
+        INFO("absorption mode " << static_cast<int>(c.mode) << (c.importance ? ", depth importance" : ""));
+        const auto a = PhotonTracer<LayeredWater, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
+        const auto b = Tracer<LayeredWater, CompactRecord>(water, slab, FlatSurface(1.34), CollimatedSun(30.0), s).run();
+        check_irradiances_agree(a, b, s.depths, "PhotonTracer");
+        testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
+        testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
+        CHECK(b.ledger.incident == 1.0);
+        CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : 5e-3));
+    }
+}
+}  // namespace
+
+TEST_CASE("LaneTracer and PhotonTracer agree in stratified water, in double and float lanes") {
+    check_agrees_in_stratified_water<LaneTracer>();
+    check_agrees_in_stratified_water<FloatLaneTracer>();
 }
 
 TEST_CASE("LaneTracer rejects depth importance with analog photons by name") {

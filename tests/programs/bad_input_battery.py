@@ -237,7 +237,6 @@ CASES = [
      ["{tmp}/c.json", "{tmp}/m.exr"]),
     ("canonical", "--problem 1a,2a --store voi --material {tmp}/bad_type.mat", ["--material", "only problem 3", "1a,2a"], []),
     ("canonical", "--problem 1b --store voi --petzold petzold-linear", ["--petzold", "problems 2a, 2b, 3, 4, 5 or 6"], []),
-    ("canonical", "--problem 3 --store voi --tracer lanes", ["--tracer", "--problem 3 does not include"], []),
     ("canonical", "--problem 2a --store voi --facets redraw", ["--facets", "only problem 5"], []),
     ("canonical", "--problem kirk --aerosol-g 0.5", ["--aerosol-g", "only problem 4"], []),
     ("canonical", "--problem kirk --budget-scale 2", ["--budget-scale", "--problem kirk does not include"], []),

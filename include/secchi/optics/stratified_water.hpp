@@ -230,6 +230,23 @@ public:
         });
     }
 
+    /// The component choice of sample_phase: component `index` with probability b_i(z) / b(z)
+    /// by u1, and u1 rescaled to v within that component's interval (u1 itself when there is
+    /// one component): sample_direction(z, u1, u2) is component index's sample_direction(v, u2).
+    struct ComponentChoice {
+        std::size_t index;
+        double v;
+    };
+    [[nodiscard]] ComponentChoice choose(double z, double u1) const {
+        if (components() == 1) return {0, u1};
+        std::array<double, max_components> w{};
+        const double target = u1 * weights(z, w);
+        double lo = 0.0;
+        std::size_t i = 0;
+        while (i + 1 < components() && target >= lo + w[i]) lo += w[i++];
+        return {i, std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53)};
+    }
+
     /// b_i(z) into w (unnormalised mixture weights); returns b(z) = sum_i b_i(z).
     double weights(double z, std::array<double, max_components>& w) const {
         const std::size_t j = cell(z);
@@ -241,19 +258,12 @@ public:
 private:
     static constexpr double horizontal = 1e-6;
 
-    /// The component choice of sample_phase: component i with probability b_i(z) / b(z) by
-    /// u1, then f(p_i, v) with u1 rescaled to v within i's interval (u1 itself when there is
-    /// one component). f is called on component i's own type.
+    /// f(p_i, v) for the component i and rescaled uniform v that choose(z, u1) gives, called on
+    /// component i's own type.
     template <class F>
     [[nodiscard]] auto choose_component(double z, double u1, F&& f) const {
-        if (components() == 1) return visit_phase(0, [&](const auto& p) { return f(p, u1); });
-        std::array<double, max_components> w{};
-        const double target = u1 * weights(z, w);
-        double lo = 0.0;
-        std::size_t i = 0;
-        while (i + 1 < components() && target >= lo + w[i]) lo += w[i++];
-        const double v = std::clamp((target - lo) / w[i], 0x1p-53, 1.0 - 0x1p-53);
-        return visit_phase(i, [&](const auto& p) { return f(p, v); });
+        const ComponentChoice c = choose(z, u1);
+        return visit_phase(c.index, [&](const auto& p) { return f(p, c.v); });
     }
 
     static int index(Coefficient k) { return k == Coefficient::absorption ? 0 : k == Coefficient::scattering ? 1 : 2; }

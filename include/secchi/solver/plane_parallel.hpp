@@ -54,7 +54,7 @@
 namespace secchi::SECCHI_ISA {
 
 /// Which first pass traces the photons: PhotonTracer, or LaneTracer (photons in SIMD lanes;
-/// homogeneous water, depth importance with weighted photons only; the same estimates, faster
+/// depth importance with weighted photons only; the same estimates, faster
 /// where the target has wide vectors) in lanes of doubles ("lanes") or of floats ("lanes-float": twice the
 /// lanes, the photons' state rounded to float between events).
 enum class TracerKind { photon, lanes, float_lanes };
@@ -213,15 +213,13 @@ TransportResult<Record> first_pass_through(const M& medium, const Slab& slab, co
         return tracer.merge_part(std::move(part));
     };
 #if SECCHI_HAS_LANES
-    if constexpr (depth_independent<M>) {
-        if (cfg.tracer == TracerKind::lanes)
-            return run(LaneTracer<M, Record, double, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
-        if (cfg.tracer == TracerKind::float_lanes)
-            return run(FloatLaneTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
-    }
+    if (cfg.tracer == TracerKind::lanes)
+        return run(LaneTracer<M, Record, double, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
+    if (cfg.tracer == TracerKind::float_lanes)
+        return run(FloatLaneTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
 #endif
     require(cfg.tracer == TracerKind::photon, "tracer", cfg.tracer == TracerKind::lanes ? "lanes" : "lanes-float",
-            "LaneTracer traces homogeneous water (and needs <experimental/simd>)");
+            "needs <experimental/simd> (LaneTracer), which this compiler lacks");
     return run(PhotonTracer<M, Record, Surface, AnySource>(medium, slab, surface, source, cfg.transport));
 }
 

@@ -22,9 +22,11 @@
 #include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
 #include "secchi/transport/settings.hpp"
-#include <cmath>
-#include <type_traits>
 #include "secchi/core/lanes.hpp"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
 
 namespace secchi::SECCHI_ISA {
 
@@ -92,18 +94,27 @@ public:
     }
 
     /// Absorption at an interaction of a photon of weight w, albedo w0 (manual 3.3.5); u is the
-    /// event's uniform for the analog choice (read only when absorption_draws()).
-    template <class Real>
-    SECCHI_KERNEL Absorption<Real> absorb(const Real& w, const Real& u, double w0) const {
+    /// event's uniform for the analog choice (read only when absorption_draws()). w0 is one
+    /// double for every lane (a depth-independent medium's), or a Real: each lane's own (its
+    /// depth's, in depth-varying water).
+    template <class Real, class Albedo>
+    SECCHI_KERNEL Absorption<Real> absorb(const Real& w, const Real& u, const Albedo& w0) const {
         using T = scalar_t<Real>;
         using Mask = mask_of<Real>;
+        Real kept, lost;  // w0 and 1 - w0 (in double where w0 is one double, then rounded to T)
+        if constexpr (std::is_same_v<Albedo, double>) {
+            kept = Real(static_cast<T>(w0));
+            lost = Real(static_cast<T>(1.0 - w0));
+        } else {
+            kept = w0;
+            lost = Real(T(1)) - w0;
+        }
         switch (mode_) {
             case AbsorptionMode::analog: {
-                const Mask ends = u >= static_cast<T>(w0);
+                const Mask ends = u >= kept;
                 return {w, select(ends, w, Real(T(0))), ends};
             }
-            case AbsorptionMode::implicit_capture:
-                return {w * static_cast<T>(w0), w * static_cast<T>(1.0 - w0), Mask(false)};
+            case AbsorptionMode::implicit_capture: return {w * kept, w * lost, Mask(false)};
             case AbsorptionMode::continuous: break;  // every interaction scatters
         }
         return {w, Real(T(0)), Mask(false)};
@@ -149,7 +160,8 @@ public:
     /// The scattering angles at depth z from the event's uniforms u_psi, u_phi: per photon
     /// through the medium's sampler (scattering_direction), or in the vectors for a phase
     /// function with a lane sampler (cos_psi(Reals): a per-lane inverse CDF, phi = 2 pi u_phi),
-    /// in float lanes also one for double lanes only (a table) by groups of double lanes; any
+    /// in float lanes also one for double lanes only (a table) by groups of double lanes; a
+    /// mixture of phase functions (depth-varying water) by its components (mixture_angles); any
     /// other phase function lane by lane.
     template <Medium M, class Real>
     SECCHI_KERNEL static ScatteringAngles<Real> angles(const M& medium, const Real& z, const Real& u_psi,
@@ -168,6 +180,86 @@ template <class P, class Lanes = lanes::Reals>
 concept LanePhaseSampler = requires(const P p, Lanes u) {
     { p.cos_psi(u) } -> std::same_as<Lanes>;
 };
+
+/// A phase function whose cos psi the lanes of Real sample in the vectors: with its lane
+/// sampler for Real, or in float lanes with its sampler for double lanes (a table), by groups.
+template <class P, class Real>
+concept LaneSampled = LanePhaseSampler<P, Real> ||
+                      (std::is_same_v<scalar_t<Real>, float> && LanePhaseSampler<P, lanes::Reals>);
+
+/// cos psi of phase function p (LaneSampled) for each lane's uniform u.
+template <class P, class Real>
+    requires LaneSampled<P, Real>
+SECCHI_KERNEL Real lane_cos_psi(const P& p, const Real& u) {
+    if constexpr (LanePhaseSampler<P, Real>) {
+        return p.cos_psi(u);
+    } else {
+        using T = scalar_t<Real>;
+        constexpr int width = static_cast<int>(Real::size());
+        alignas(64) T cos_psi[width];
+        for (int g = 0; g < width; g += lanes::lane_width) {
+            const lanes::Reals mu = p.cos_psi(lanes::Reals([&](int l) { return static_cast<double>(u[g + l]); }));
+            for (int l = 0; l < lanes::lane_width; ++l) cos_psi[g + l] = static_cast<T>(mu[l]);
+        }
+        return Real(cos_psi, lanes::aligned);
+    }
+}
+
+/// A medium of one phase function (phase_type, phase()) sampled in the vectors of Real.
+template <class M, class Real>
+concept LaneSampledMedium = requires(const M m) {
+    typename M::phase_type;
+    m.phase();
+} && LaneSampled<typename M::phase_type, Real>;
+
+/// A medium whose phase function at depth z is a mixture of components (eq. 5.5-5.6; e.g.
+/// StratifiedWater): choose(z, u1) gives the component and the rescaled uniform its own sampler
+/// takes, visit_phase(i, f) calls f on component i.
+template <class M>
+concept PhaseMixtureMedium = requires(const M m, double z, double u, std::size_t i) {
+    { m.choose(z, u).index } -> std::convertible_to<std::size_t>;
+    { m.choose(z, u).v } -> std::convertible_to<double>;
+    { m.components() } -> std::convertible_to<std::size_t>;
+};
+
+/// The mixture's scattering angles per lane: each lane's component chosen lane by lane at its
+/// depth (choose, in double), then each component present sampled in the vectors over all lanes
+/// where it is LaneSampled (kept in the lanes that chose it, phi = 2 pi u_phi), else lane by
+/// lane through its own sampler: the angles scattering_direction gives lane by lane, but for
+/// the lane samplers' rounding.
+template <PhaseMixtureMedium M, class Real>
+ScatteringAngles<Real> mixture_angles(const M& medium, const Real& z, const Real& u_psi, const Real& u_phi) {
+    using T = scalar_t<Real>;
+    constexpr int width = static_cast<int>(Real::size());
+    constexpr T below_one = T(1) - std::numeric_limits<T>::epsilon() / 2;
+    alignas(64) T v[width], cos_psi[width], azimuth[width];
+    std::size_t index[width];
+    for (int l = 0; l < width; ++l) {
+        const auto c = medium.choose(static_cast<double>(z[l]), static_cast<double>(u_psi[l]));
+        index[l] = c.index;
+        v[l] = std::min(static_cast<T>(c.v), below_one);  // (in floats v may round up to 1)
+        azimuth[l] = static_cast<T>(two_pi) * u_phi[l];
+    }
+    for (std::size_t i = 0; i < medium.components(); ++i) {
+        if (std::none_of(index, index + width, [&](std::size_t k) { return k == i; })) continue;
+        medium.visit_phase(i, [&](const auto& p) {
+            using P = std::decay_t<decltype(p)>;
+            if constexpr (LaneSampled<P, Real>) {
+                const Real mu = lane_cos_psi(p, Real(v, lanes::aligned));
+                for (int l = 0; l < width; ++l)
+                    if (index[l] == i) cos_psi[l] = mu[l];
+            } else {
+                for (int l = 0; l < width; ++l)
+                    if (index[l] == i) {
+                        const PhaseDirection d = sample_direction_of(p, static_cast<double>(v[l]), static_cast<double>(u_phi[l]));
+                        cos_psi[l] = static_cast<T>(d.cos_psi);
+                        azimuth[l] = static_cast<T>(d.phi);
+                    }
+            }
+        });
+    }
+    return {Real(cos_psi, lanes::aligned), Real(azimuth, lanes::aligned)};
+}
 #endif
 
 template <Medium M, class Real>
@@ -180,17 +272,10 @@ SECCHI_KERNEL ScatteringAngles<Real> EventPhysics::angles(const M& medium, const
 #if SECCHI_HAS_LANES
         using T = scalar_t<Real>;
         constexpr int width = static_cast<int>(Real::size());
-        const Real phi = static_cast<T>(two_pi) * u_phi;
-        if constexpr (LanePhaseSampler<typename M::phase_type, Real>) {
-            return {medium.phase().cos_psi(u_psi), phi};
-        } else if constexpr (std::is_same_v<T, float> && LanePhaseSampler<typename M::phase_type, lanes::Reals>) {
-            alignas(64) T cos_psi[width];
-            for (int g = 0; g < width; g += lanes::lane_width) {
-                const lanes::Reals mu =
-                    medium.phase().cos_psi(lanes::Reals([&](int l) { return static_cast<double>(u_psi[g + l]); }));
-                for (int l = 0; l < lanes::lane_width; ++l) cos_psi[g + l] = static_cast<T>(mu[l]);
-            }
-            return {Real(cos_psi, lanes::aligned), phi};
+        if constexpr (LaneSampledMedium<M, Real>) {
+            return {lane_cos_psi(medium.phase(), u_psi), static_cast<T>(two_pi) * u_phi};
+        } else if constexpr (PhaseMixtureMedium<M>) {
+            return mixture_angles(medium, z, u_psi, u_phi);
         } else {
             alignas(64) T cos_psi[width], azimuth[width];
             for (int l = 0; l < width; ++l) {

@@ -114,8 +114,9 @@ public:
     /// floats; photons in lanes, transport/lane_tracer.hpp), for the lanes in `active`: the same
     /// tests lane by lane, each plane's tallies summed per lane into `tally` (the caller sums
     /// the lanes). The weight decays along the flights by `absorber`: NoAbsorption (the weight
-    /// does not decay: record()'s arithmetic), or an object whose transmittance(s) gives
-    /// exp(-int_0^s a dt') per lane for path lengths s (LaneTracer's, for its homogeneous
+    /// does not decay: record()'s arithmetic), or an object whose transmittance(z0, uz, s)
+    /// gives exp(-int_0^s a dt') per lane for path lengths s from depths z0 along uz
+    /// (LaneTracer's: LaneAbsorption in homogeneous water, LaneMediumAbsorption in depth-varying
     /// water). tests/test_lane_tracer.cpp checks it against record(). In floats the planes are
     /// rounded to float, and a plane on the bottom is the next float shallower than the floor's.
     template <class Real, class Mask, class Absorber = NoAbsorption>
@@ -132,7 +133,7 @@ public:
             if constexpr (!std::same_as<Absorber, NoAbsorption>) {  // w exp(-a s), s = (d - z0) / uz to the plane
                 Real s(T(0));
                 where(down || up, s) = (Real(d) - z0) / uz;
-                at_plane = w * absorber.transmittance(s);
+                at_plane = w * absorber.transmittance(z0, uz, s);
             }
             const Real scalar = at_plane * inverse_mu;
             where(down, tally[i][Ed]) += at_plane;

@@ -37,13 +37,20 @@
 // in float lanes its bounds and weights in float); an event whose weight exceeds 1 stores
 // further copies of its record, as with depth importance.
 //
-// For homogeneous water (depth_independent media), without objects in the water
-// (scene/geometry.hpp: LaneTracer has no geometry parameter; its base is PhotonTracer with
-// NoGeometry), with weighted photons where depth importance is on (absorption implicit or
-// continuous), without upward importance or a surface map; use PhotonTracer for those. Phase
-// functions with a per-lane inverse CDF (cos_psi(Reals), e.g. Henyey-Greenstein, or a table
-// with the trapezoid convention such as Petzold) sample in the vectors; any other samples lane
-// by lane.
+// Depth-varying water (a Medium that is not depth_independent, e.g. StratifiedWater): the
+// step stays in the vectors but for what depends on depth, which goes lane by lane in double
+// through the medium, as PhotonTracer computes it for one photon: the free path
+// (Medium::distance_to of -ln u, manual 3.3.4), the albedo at the event's depth, continuous
+// absorption's decay along a flight and to a detector's plane (Medium::optical_path), and the
+// scattering direction from the depth's mixture of phase functions (eq. 5.5-5.6). Homogeneous
+// water computes these in the vectors from its constants.
+//
+// Without objects in the water (scene/geometry.hpp: LaneTracer has no geometry parameter; its
+// base is PhotonTracer with NoGeometry), with weighted photons where depth importance is on
+// (absorption implicit or continuous), without upward importance or a surface map; use
+// PhotonTracer for those. Phase functions with a per-lane inverse CDF (cos_psi(Reals), e.g.
+// Henyey-Greenstein, or a table with the trapezoid convention such as Petzold) sample in the
+// vectors; any other samples lane by lane.
 //
 // In lanes of doubles (LaneTracer<M, R>) or of floats (FloatLaneTracer<M, R> =
 // LaneTracer<M, R, float>: twice the lanes per vector, 8 with AVX2). In float lanes a step's
@@ -79,7 +86,10 @@ namespace secchi::SECCHI_ISA {
 template <class Real>
 struct LaneAbsorption {
     Real a;  ///< absorption coefficient (1/m)
-    [[nodiscard]] SECCHI_KERNEL lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& s) const {
+    /// exp(-a s) over flights of length s per lane (from any depth z0, along any direction uz).
+    [[nodiscard]] SECCHI_KERNEL lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& /*z0*/,
+                                                                   const lanes::LanesOf<Real>& /*uz*/,
+                                                                   const lanes::LanesOf<Real>& s) const {
         using V = lanes::LanesOf<Real>;
         const V x = -a * s;
         if constexpr (std::same_as<Real, float>) {
@@ -89,6 +99,21 @@ struct LaneAbsorption {
             lanes::stdx::where(x < -707.0, out) = 0.0;
             return out;
         }
+    }
+};
+
+/// Absorption along straight flights in depth-varying water (a Medium whose coefficients
+/// depend on depth), one flight per lane: exp(-int_0^s a(z0 + uz t) dt) from the medium's
+/// optical path (Medium::optical_path, exact for StratifiedWater's linear profiles: manual
+/// 3.3.4), lane by lane in double, as PhotonTracer computes it for one photon.
+template <Medium M, class Real>
+struct LaneMediumAbsorption {
+    const M& medium;
+    [[nodiscard]] lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& z0, const lanes::LanesOf<Real>& uz,
+                                                     const lanes::LanesOf<Real>& s) const {
+        return lanes::LanesOf<Real>([&](auto l) {
+            return static_cast<Real>(std::exp(-medium.optical_path(Coefficient::absorption, z0[l], uz[l], s[l])));
+        });
     }
 };
 
@@ -107,7 +132,7 @@ struct LaneAbsorption {
 template <Medium M, PhotonRecord Record, class Real = double, AirWaterSurface Surface = FlatSurface,
           LightSource Source = SunAndSky, IrradianceDetector Detector = IrradiancePlanes,
           BottomModel BottomPolicy = Bottom>
-    requires depth_independent<M> && std::default_initializable<Record> &&
+    requires std::default_initializable<Record> &&
              (std::same_as<Real, double> || std::same_as<Real, float>)
 class LaneTracer : private PhotonTracer<M, Record, Surface, Source, Detector, BottomPolicy> {
     using Base = PhotonTracer<M, Record, Surface, Source, Detector, BottomPolicy>;
@@ -430,8 +455,7 @@ private:
         // Free path (eq. 3.17): s = -ln(u) / c (b with continuous absorption), cut at the
         // surface or the floor if the photon gets there first.
         const Reals z(L.z, aligned), dz(L.dz, aligned);
-        const Reals s = -lanes::log(Reals(u.path, aligned)) / path_coefficient_;
-        const FreeFlight<Reals> flight = physics.free_flight(z, dz, s);
+        const FreeFlight<Reals> flight = physics.free_flight(z, dz, free_path(z, dz, Reals(u.path, aligned)));
         fly(L, alive, flight.t, flight.z1);
         const Mask at_boundary = alive && (flight.to_surface || flight.to_floor);
         const Mask inside = alive && !at_boundary;
@@ -443,7 +467,7 @@ private:
         const Mask truncated = inside && physics.beyond_order(Reals(L.order, aligned));
         const Mask interacts = inside && !truncated;
         const Reals u_absorb_or_store(u.absorb_or_store, aligned);
-        const Absorption<Reals> absorption = physics.absorb(w, u_absorb_or_store, this->w0_);
+        const Absorption<Reals> absorption = physics.absorb(w, u_absorb_or_store, albedo(Reals(L.z, aligned)));
         const Mask absorbed = interacts && absorption.ends;
         Reals absorbed_weight(L.absorbed, aligned);
         lanes::stdx::where(interacts, absorbed_weight) = absorbed_weight + absorption.absorbed;
@@ -485,14 +509,14 @@ private:
     /// planes: PhotonTracer's arithmetic with lanes::exp for std::exp), the move.
     SECCHI_KERNEL void fly(Lanes& L, const Mask& alive, const Reals& t, const Reals& z1) const {
         const Reals z(L.z, aligned), dz(L.dz, aligned), w(L.w, aligned);
-        const LaneAbsorption<Real> decay{absorption_coefficient_};
+        const auto decay = absorption_along_flights();
         if (!this->physics_.continuous()) this->detectors_.record_lanes(z, z1, dz, t, w, alive, L.tally.data());
         else this->detectors_.record_lanes(z, z1, dz, t, w, alive, L.tally.data(), decay);
         (Reals(L.x, aligned) + Reals(L.dx, aligned) * t).copy_to(L.x, aligned);
         (Reals(L.y, aligned) + Reals(L.dy, aligned) * t).copy_to(L.y, aligned);
         z1.copy_to(L.z, aligned);
         if (!this->physics_.continuous()) return;
-        const Reals decayed = w * decay.transmittance(t);
+        const Reals decayed = w * decay.transmittance(z, dz, t);
         Reals absorbed(L.absorbed, aligned), weight = w;
         lanes::stdx::where(alive, absorbed) = absorbed + (w - decayed);
         lanes::stdx::where(alive, weight) = decayed;
@@ -557,6 +581,42 @@ private:
         return Record::make(vec3(0.0, 0.0, L.z[l]), vec3(0.0, 0.0, 1.0), band_index{0}, 0).position().z;
     }
 
+    /// Each lane's free path from its uniform u (eq. 3.17): -ln(u) / k in homogeneous water (k =
+    /// c, or b with continuous absorption); in depth-varying water the distance along the
+    /// lane's direction from its depth at which the optical path of k reaches -ln(u)
+    /// (Medium::distance_to, manual 3.3.4), lane by lane in double as PhotonTracer::follow
+    /// computes it (infinite where an upward photon reaches the surface first: the flight then
+    /// ends there).
+    SECCHI_KERNEL Reals free_path(const Reals& z, const Reals& dz, const Reals& u) const {
+        const Reals tau = -lanes::log(u);
+        if constexpr (depth_independent<M>) {
+            return tau / path_coefficient_;
+        } else {
+            const Coefficient k = this->physics_.path_coefficient();
+            return Reals([&](auto l) { return static_cast<Real>(this->medium_.distance_to(k, z[l], dz[l], tau[l])); });
+        }
+    }
+
+    /// The single-scattering albedo for the lanes at depths z: one value in homogeneous water,
+    /// else each lane's at its depth (albedo_at, in double, as PhotonTracer::interact), only
+    /// where the absorption mode reads it (not with continuous absorption).
+    SECCHI_KERNEL auto albedo(const Reals& z) const {
+        if constexpr (depth_independent<M>) {
+            return this->w0_;
+        } else {
+            if (this->physics_.continuous()) return Reals(Real(1));
+            return Reals([&](auto l) { return static_cast<Real>(albedo_at(this->medium_, z[l])); });
+        }
+    }
+
+    /// The weight's decay along flights with continuous absorption (and the detectors' scores
+    /// on the way to their planes): exp(-a s) in homogeneous water, the medium's absorption
+    /// optical path in depth-varying water.
+    auto absorption_along_flights() const {
+        if constexpr (depth_independent<M>) return LaneAbsorption<Real>{absorption_coefficient_};
+        else return LaneMediumAbsorption<M, Real>{this->medium_};
+    }
+
     /// Backscatter bias for the scattering lanes: u_psi becomes the biased draw, w the weight
     /// times 1 / q, and the change is booked per lane (PhotonTracer::reweight).
     void draw_biased(Lanes& L, const Mask& scatters, Reals& u_psi, Reals& w) const {
@@ -586,8 +646,8 @@ private:
     }
 
     lanes::PhiloxKey key_;              ///< the seed as Philox's key (PhotonRng's)
-    Real path_coefficient_;             ///< c, or b with continuous absorption (1/m)
-    Real absorption_coefficient_;       ///< a (1/m): continuous absorption's decay along flights
+    Real path_coefficient_;             ///< c, or b with continuous absorption (1/m; homogeneous water)
+    Real absorption_coefficient_;       ///< a (1/m): continuous absorption's decay along flights (the same)
     std::vector<LaneSpan> spans_;       ///< the depth importance's spans (one, unbounded, without it)
     BackscatterBiasOf<Real> lane_bias_;  ///< PhotonTracer's backscatter bias in Real (off by default)
 };
