@@ -11,7 +11,6 @@
 #include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
-#include "secchi/optics/iop/linear_model.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/transport/tracer.hpp"
 #include <algorithm>
@@ -94,73 +93,6 @@ TEST_CASE("stratified water: optical depth of linear and stepped profiles, and i
     CHECK(two.coefficient(Coefficient::absorption, 2.999) == 0.2);
     CHECK(two.coefficient(Coefficient::absorption, 3.0) == 1.5);
 }
-
-#if SECCHI_HAS_LANES
-namespace {
-/// StratifiedWater's lane queries (distance_to, optical_path for lanes::Reals) against its
-/// scalar ones lane by lane, over random flights: depths from above the surface to beyond the
-/// last node (some on a node or next to one), every direction (some near-horizontal, some
-/// within 1e-6 of it: the scalar path),
-/// optical depths up to 30 and path lengths up to 30 m. Bit for bit where the target has no
-/// fused multiply-add; with one, equal but for the rounding of contracted multiply-adds: the
-/// flights' end depths within 1e-12 m (1 + depth), their optical paths within
-/// 1e-12 (1 + K(deepest)) / |uz|; infinite (the surface first) alike.
-template <class Water>
-void check_lane_queries(const Water& water) {
-    using lanes::Reals, lanes::lane_width;
-#if defined(__FMA__)
-    constexpr double relative = 1e-12;
-#else
-    constexpr double relative = 0.0;
-#endif
-    std::mt19937_64 gen(5);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const double deepest = water.depths().back() + 5.0;
-    for (int round = 0; round < 20000 / lane_width; ++round) {
-        const auto& nodes = water.depths();
-        const Reals z([&](int) {  // some on a node, or next to one (the cell's rounding)
-            const double r = unit(gen), node = nodes[static_cast<std::size_t>(unit(gen) * static_cast<double>(nodes.size()))];
-            return r < 0.05 ? -0.1 * unit(gen) : r < 0.1 ? node : r < 0.15 ? std::nextafter(node, r < 0.125 ? -1.0 : 1e9)
-                                                                             : deepest * unit(gen);
-        });
-        const Reals uz([&](int) {
-            const double r = unit(gen);
-            return r < 0.05 ? (unit(gen) - 0.5) * 2e-6 : r < 0.1 ? (unit(gen) - 0.5) * 1e-3 : 2.0 * unit(gen) - 1.0;
-        });
-        const Reals tau([&](int) { return 30.0 * unit(gen); }), s([&](int) { return 30.0 * unit(gen); });
-        for (const Coefficient k : {Coefficient::absorption, Coefficient::scattering, Coefficient::attenuation}) {
-            const Reals d = water.distance_to(k, z, uz, tau), path = water.optical_path(k, z, uz, s);
-            const double scale = 1.0 + water.optical_depth(k, deepest + 30.0);
-            for (int l = 0; l < lane_width; ++l) {
-                const double one = water.distance_to(k, z[l], uz[l], tau[l]);
-                INFO("z " << z[l] << ", uz " << uz[l] << ", tau " << tau[l] << ": " << d[l] << " against " << one);
-                REQUIRE(std::isinf(d[l]) == std::isinf(one));
-                if (!std::isinf(one)) REQUIRE(std::abs((d[l] - one) * uz[l]) <= relative * (1.0 + std::abs(z[l] + one * uz[l])));
-                const double path_one = water.optical_path(k, z[l], uz[l], s[l]);
-                INFO("s " << s[l] << ": optical path " << path[l] << " against " << path_one);
-                REQUIRE(std::abs(path[l] - path_one) <= relative * scale / std::max(std::abs(uz[l]), 1e-6));
-            }
-        }
-    }
-}
-}  // namespace
-
-TEST_CASE("stratified water: its queries for lanes of flights are its queries per flight, lane by lane") {
-    // Equally spaced nodes (the lanes' own path), with a coefficient falling to 0 (no scattering
-    // below 15 m: infinite free paths there for b), and nodes at a jump (the lanes per flight).
-    DepthProfile p;
-    p.depth = iop::uniform_depths(20.5, 0.41);  // equally spaced; z_k / 0.41 rounds below k at many nodes
-    for (const double z : p.depth) {
-        p.absorption.push_back(0.05 + 0.4 * std::exp(-(z - 8.0) * (z - 8.0) / 8.0));
-        p.scattering.resize(2);
-        p.scattering[0].push_back(0.01);
-        p.scattering[1].push_back(z < 15.0 ? 0.3 + 1.5 * std::exp(-(z - 6.0) * (z - 6.0) / 4.0) : 0.0);
-    }
-    p.scattering[0].back() = 0.0;  // and none of either at the last node
-    check_lane_queries(StratifiedWater<RayleighPhase, HenyeyGreensteinPhase>(p, {RayleighPhase{}, HenyeyGreensteinPhase(0.9)}));
-    check_lane_queries(two_layers(0.1, 0.5, 0.8, 0.2, 4.0, HenyeyGreensteinPhase(0.9)));
-}
-#endif
 
 TEST_CASE("stratified water: invalid profiles are rejected") {
     CHECK_THROWS_AS(StratifiedWater<IsotropicPhase>(DepthProfile{{0.0, 1.0}, {0.1, -0.1}, {{0.1, 0.1}}}, {IsotropicPhase{}}),

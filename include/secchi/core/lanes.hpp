@@ -400,33 +400,6 @@ SECCHI_KERNEL Floats exp(const Floats& x_in) {
     return out;
 }
 
-/// e^x for x <= 0 in double lanes: exp per lane (exp_table's value), 0 below -707 (e^-707 <
-/// 1e-307), where exp's range ends. A transmittance exp(-tau) from an optical depth tau >= 0.
-SECCHI_KERNEL Reals exp_of_nonpositive(const Reals& x) {
-    Reals out = exp(stdx::max(x, Reals(-707.0)));
-    stdx::where(x < -707.0, out) = 0.0;
-    return out;
-}
-
-/// f(a, more...) of double lanes (Reals arguments, a Reals result) for lanes of T: f itself in
-/// double lanes; in float lanes by groups of lane_width lanes, each widened to doubles and
-/// its result rounded back to float (a function written for double lanes only, e.g. a table's).
-template <class F, class T, class Abi, class... More>
-SECCHI_KERNEL stdx::simd<T, Abi> by_double_lanes(F&& f, const stdx::simd<T, Abi>& a, const More&... more) {
-    if constexpr (std::is_same_v<stdx::simd<T, Abi>, Reals>) {
-        return f(a, more...);
-    } else {
-        constexpr int width = static_cast<int>(stdx::simd<T, Abi>::size());
-        alignas(64) T out[width];
-        for (int g = 0; g < width; g += lane_width) {
-            const auto group = [g](const auto& v) { return Reals([&](int l) { return static_cast<double>(v[g + l]); }); };
-            const Reals r = f(group(a), group(more)...);
-            for (int l = 0; l < lane_width; ++l) out[g + l] = static_cast<T>(r[l]);
-        }
-        return stdx::simd<T, Abi>(out, aligned);
-    }
-}
-
 /// Positions and directions per lane.
 using Vec3 = Vec3Of<Reals>;
 using Vec3F = Vec3Of<Floats>;

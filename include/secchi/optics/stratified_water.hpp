@@ -34,7 +34,6 @@
 // caller's choice: linear interpolation errs by at most h^2 max|k''| / 8 for node spacing h.
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
-#include "secchi/core/lanes.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
 #include <algorithm>
@@ -203,38 +202,6 @@ public:
         return (depth_at_optical_depth(k, target) - z) / uz;
     }
 
-#if SECCHI_HAS_LANES
-    /// distance_to for lanes::lane_width flights at once (photons in lanes,
-    /// transport/lane_tracer.hpp): lane l's is distance_to(k, z[l], uz[l], tau[l]), by the same
-    /// arithmetic in the vectors (to the rounding of contracted multiply-adds; lane by lane where
-    /// the nodes are not equally spaced or a flight is near-horizontal).
-    [[nodiscard]] lanes::Reals distance_to(Coefficient k, const lanes::Reals& z, const lanes::Reals& uz,
-                                           const lanes::Reals& tau) const {
-        using lanes::Reals;
-        const auto per_lane = [&](auto l) { return distance_to(k, z[l], uz[l], tau[l]); };
-        if (!(inverse_spacing_ > 0.0)) return Reals(per_lane);
-        const int c = index(k);
-        const Reals target = integral_in(c, cell(z), z) + tau * uz;
-        Reals out = (depth_at_optical_depth(c, lanes::stdx::max(target, Reals(0.0))) - z) / uz;
-        where(target < 0.0, out) = INFINITY;  // upward: reaches the surface first
-        lanes::for_each(lanes::stdx::abs(uz) < horizontal, [&](int l) { out[l] = per_lane(l); });
-        return out;
-    }
-
-    /// optical_path for lanes::lane_width flights at once, as distance_to above.
-    [[nodiscard]] lanes::Reals optical_path(Coefficient k, const lanes::Reals& z, const lanes::Reals& uz,
-                                            const lanes::Reals& s) const {
-        using lanes::Reals;
-        const auto per_lane = [&](auto l) { return optical_path(k, z[l], uz[l], s[l]); };
-        if (!(inverse_spacing_ > 0.0)) return Reals(per_lane);
-        const int c = index(k);
-        const Reals z1 = z + uz * s;
-        Reals out = (integral_in(c, cell(z1), z1) - integral_in(c, cell(z), z)) / uz;
-        lanes::for_each(lanes::stdx::abs(uz) < horizontal, [&](int l) { out[l] = per_lane(l); });
-        return out;
-    }
-#endif
-
     /// Direction from the mixture at depth z (eq. 5.5-5.6), with the mixture's density there.
     [[nodiscard]] PhaseSample sample_phase(double z, double u1, double u2) const {
         const PhaseDirection d = sample_direction(z, u1, u2);
@@ -352,72 +319,6 @@ private:
         const auto it = std::upper_bound(z_.begin(), z_.end(), z);
         return it == z_.begin() ? 0 : static_cast<std::size_t>(it - z_.begin()) - 1;
     }
-
-#if SECCHI_HAS_LANES
-    /// cell() per lane for equally spaced nodes (inverse_spacing_ > 0), as doubles.
-    [[nodiscard]] lanes::Reals cell(const lanes::Reals& z) const {
-        using lanes::Reals, lanes::lookup;
-        const double last = static_cast<double>(z_.size() - 1);
-        const Reals x = z * inverse_spacing_;
-        Reals j(0.0);  // (0 where !(z > 0), NaN included: every index stays in the table)
-        where(x > 0.0, j) = lanes::stdx::floor(lanes::stdx::min(x, Reals(last)));
-        const auto inside = x > 0.0 && x < last;  // else cell() is 0 or the last node, unsettled
-        const auto below = inside && z < lookup(z_, j);
-        const auto above = inside && !below && z >= lookup(z_, j + 1.0);  // (inside: j + 1 <= last)
-        where(below, j) = j - 1.0;
-        where(above, j) = j + 1.0;
-        return j;
-    }
-
-    /// integral_to per lane for the coefficient c at cells j (cell(z)).
-    [[nodiscard]] lanes::Reals integral_in(int c, const lanes::Reals& j, const lanes::Reals& z) const {
-        using lanes::Reals, lanes::lookup;
-        const auto& kk = k_[c];
-        const auto& cum = cumulative_[c];
-        const double last = static_cast<double>(z_.size() - 1);
-        const Reals next = lanes::stdx::min(j + 1.0, Reals(last));
-        const Reals zj = lookup(z_, j), kj = lookup(kk, j), cj = lookup(cum, j);
-        const Reals x = z - zj;
-        const Reals slope = (lookup(kk, next) - kj) / (lookup(z_, next) - zj);  // (unused where level)
-        Reals out = cj + x * (kj + 0.5 * slope * x);
-        where(j == last || x <= 0.0, out) = cj + kj * x;
-        return out;
-    }
-
-    /// node_below and depth_at_optical_depth per lane (target >= 0).
-    [[nodiscard]] lanes::Reals depth_at_optical_depth(int c, const lanes::Reals& target) const {
-        using lanes::Reals, lanes::lookup;
-        const auto& kk = k_[c];
-        const auto& cum = cumulative_[c];
-        const double last = static_cast<double>(z_.size() - 1);
-        Reals j(0.0);
-        if (bin_width_[c] > 0.0) {
-            Reals b(0.0);  // (0 where !(target > 0): every index stays in the table)
-            where(target > 0.0, b) = lanes::stdx::min(target / bin_width_[c], Reals(static_cast<double>(bin_node_[c].size() - 1)));
-            j = lookup(bin_node_[c], lanes::stdx::floor(b));
-        }
-        for (auto step = j < last && lookup(cum, lanes::stdx::min(j + 1.0, Reals(last))) <= target; any_of(step);
-             step = j < last && lookup(cum, lanes::stdx::min(j + 1.0, Reals(last))) <= target)
-            where(step, j) = j + 1.0;
-        const Reals next = lanes::stdx::min(j + 1.0, Reals(last));
-        const Reals zj = lookup(z_, j), kj = lookup(kk, j);
-        const Reals dk = target - lookup(cum, j);
-        const Reals h = lookup(z_, next) - zj;
-        const Reals slope = (lookup(kk, next) - kj) / h;  // (unused at the last node)
-        const Reals disc = lanes::stdx::max(Reals(0.0), kj * kj + 2.0 * slope * dk);
-        const Reals denom = kj + lanes::stdx::sqrt(disc);
-        Reals x(0.0);
-        where(denom > 0.0, x) = 2.0 * dk / denom;
-        Reals out = zj + lanes::stdx::min(x, h);
-        const auto at_last = j == last;
-        if (any_of(at_last)) {
-            Reals beyond(INFINITY);
-            where(kj > 0.0, beyond) = zj + dk / kj;
-            where(at_last, out) = beyond;
-        }
-        return out;
-    }
-#endif
 
     [[nodiscard]] double interpolate(const std::vector<double>& v, double z) const { return interpolate_in(v, cell(z), z); }
 

@@ -191,8 +191,18 @@ concept LaneSampled = LanePhaseSampler<P, Real> ||
 template <class P, class Real>
     requires LaneSampled<P, Real>
 SECCHI_KERNEL Real lane_cos_psi(const P& p, const Real& u) {
-    if constexpr (LanePhaseSampler<P, Real>) return p.cos_psi(u);
-    else return lanes::by_double_lanes([&](const lanes::Reals& v) { return p.cos_psi(v); }, u);
+    if constexpr (LanePhaseSampler<P, Real>) {
+        return p.cos_psi(u);
+    } else {
+        using T = scalar_t<Real>;
+        constexpr int width = static_cast<int>(Real::size());
+        alignas(64) T cos_psi[width];
+        for (int g = 0; g < width; g += lanes::lane_width) {
+            const lanes::Reals mu = p.cos_psi(lanes::Reals([&](int l) { return static_cast<double>(u[g + l]); }));
+            for (int l = 0; l < lanes::lane_width; ++l) cos_psi[g + l] = static_cast<T>(mu[l]);
+        }
+        return Real(cos_psi, lanes::aligned);
+    }
 }
 
 /// A medium of one phase function (phase_type, phase()) sampled in the vectors of Real.

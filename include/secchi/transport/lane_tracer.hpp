@@ -37,14 +37,12 @@
 // in float lanes its bounds and weights in float); an event whose weight exceeds 1 stores
 // further copies of its record, as with depth importance.
 //
-// Depth-varying water (a Medium that is not depth_independent, e.g. StratifiedWater): what
-// depends on depth is the medium's, computed in double as PhotonTracer computes it for one
-// photon: the free path (Medium::distance_to of -ln u, manual 3.3.4) and continuous
-// absorption's decay along a flight and to a detector's plane (Medium::optical_path), in double
-// lanes where the medium answers for lanes (LaneDepthMedium: StratifiedWater), else lane by
-// lane; the albedo at the event's depth, lane by lane; the scattering direction from the
-// depth's mixture of phase functions (eq. 5.5-5.6), each lane's component chosen lane by lane
-// and each component sampled in the vectors where it can be (EventPhysics::angles). Homogeneous
+// Depth-varying water (a Medium that is not depth_independent, e.g. StratifiedWater): the
+// step stays in the vectors but for what depends on depth, which goes lane by lane in double
+// through the medium, as PhotonTracer computes it for one photon: the free path
+// (Medium::distance_to of -ln u, manual 3.3.4), the albedo at the event's depth, continuous
+// absorption's decay along a flight and to a detector's plane (Medium::optical_path), and the
+// scattering direction from the depth's mixture of phase functions (eq. 5.5-5.6). Homogeneous
 // water computes these in the vectors from its constants.
 //
 // Without objects in the water (scene/geometry.hpp: LaneTracer has no geometry parameter; its
@@ -96,41 +94,26 @@ struct LaneAbsorption {
         const V x = -a * s;
         if constexpr (std::same_as<Real, float>) {
             return lanes::exp(x);
-        } else {
-            return lanes::exp_of_nonpositive(x);
+        } else {  // lanes::exp holds exp_table's values inside (-708, 709) only
+            V out = lanes::exp(lanes::stdx::max(x, V(-707.0)));
+            lanes::stdx::where(x < -707.0, out) = 0.0;
+            return out;
         }
     }
-};
-
-/// A depth-varying medium that answers its transport queries for double lanes of flights at
-/// once (StratifiedWater): distance_to and optical_path of lanes::Reals.
-template <class M>
-concept LaneDepthMedium = requires(const M m, Coefficient k, lanes::Reals v) {
-    { m.distance_to(k, v, v, v) } -> std::same_as<lanes::Reals>;
-    { m.optical_path(k, v, v, v) } -> std::same_as<lanes::Reals>;
 };
 
 /// Absorption along straight flights in depth-varying water (a Medium whose coefficients
 /// depend on depth), one flight per lane: exp(-int_0^s a(z0 + uz t) dt) from the medium's
 /// optical path (Medium::optical_path, exact for StratifiedWater's linear profiles: manual
-/// 3.3.4), as PhotonTracer computes it for one photon: in double lanes where the medium answers
-/// for lanes (LaneDepthMedium), else lane by lane.
+/// 3.3.4), lane by lane in double, as PhotonTracer computes it for one photon.
 template <Medium M, class Real>
 struct LaneMediumAbsorption {
     const M& medium;
     [[nodiscard]] lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& z0, const lanes::LanesOf<Real>& uz,
                                                      const lanes::LanesOf<Real>& s) const {
-        if constexpr (LaneDepthMedium<M>) {  // in double lanes (lanes::exp: within 2 ulp of exp)
-            return lanes::by_double_lanes(
-                [&](const lanes::Reals& z, const lanes::Reals& u, const lanes::Reals& t) {
-                    return lanes::exp_of_nonpositive(-medium.optical_path(Coefficient::absorption, z, u, t));
-                },
-                z0, uz, s);
-        } else {
-            return lanes::LanesOf<Real>([&](auto l) {
-                return static_cast<Real>(std::exp(-medium.optical_path(Coefficient::absorption, z0[l], uz[l], s[l])));
-            });
-        }
+        return lanes::LanesOf<Real>([&](auto l) {
+            return static_cast<Real>(std::exp(-medium.optical_path(Coefficient::absorption, z0[l], uz[l], s[l])));
+        });
     }
 };
 
@@ -601,19 +584,15 @@ private:
     /// Each lane's free path from its uniform u (eq. 3.17): -ln(u) / k in homogeneous water (k =
     /// c, or b with continuous absorption); in depth-varying water the distance along the
     /// lane's direction from its depth at which the optical path of k reaches -ln(u)
-    /// (Medium::distance_to, manual 3.3.4) in double as PhotonTracer::follow computes it, in
-    /// double lanes where the medium answers for lanes, else lane by lane (infinite where an
-    /// upward photon reaches the surface first: the flight then ends there).
+    /// (Medium::distance_to, manual 3.3.4), lane by lane in double as PhotonTracer::follow
+    /// computes it (infinite where an upward photon reaches the surface first: the flight then
+    /// ends there).
     SECCHI_KERNEL Reals free_path(const Reals& z, const Reals& dz, const Reals& u) const {
         const Reals tau = -lanes::log(u);
-        const Coefficient k = this->physics_.path_coefficient();
         if constexpr (depth_independent<M>) {
             return tau / path_coefficient_;
-        } else if constexpr (LaneDepthMedium<M>) {
-            return lanes::by_double_lanes(
-                [&](const lanes::Reals& a, const lanes::Reals& b, const lanes::Reals& c) { return this->medium_.distance_to(k, a, b, c); },
-                z, dz, tau);
         } else {
+            const Coefficient k = this->physics_.path_coefficient();
             return Reals([&](auto l) { return static_cast<Real>(this->medium_.distance_to(k, z[l], dz[l], tau[l])); });
         }
     }
