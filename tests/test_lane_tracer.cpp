@@ -4,6 +4,7 @@
 // within 4 combined standard errors (fixed in advance; transport_checks.hpp).
 #include <catch2/catch.hpp>
 #include "secchi/core/stats.hpp"
+#include "secchi/optics/phase/fournier_forand.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
@@ -383,6 +384,81 @@ TEST_CASE("A random linear-p table's inverse CDF in lanes is sample_direction's,
     INFO("worst difference / its bound " << worst);
     CHECK(vector_tables == 100);
     CHECK(worst <= 1.0);
+}
+
+namespace {
+/// The largest |cos psi in float lanes - sample_direction's cos psi at the same u| over the
+/// uniforms u (padded to whole vectors).
+double worst_float_inverse(const TabulatedPhase& phase, std::vector<float> u) {
+    while (u.size() % float_width) u.push_back(0.5f);
+    double worst = 0;
+    for (std::size_t i = 0; i < u.size(); i += float_width) {
+        const Floats mu = phase.cos_psi(Floats(u.data() + i, lanes::stdx::element_aligned));
+        for (int l = 0; l < float_width; ++l)
+            worst = std::max(worst, std::abs(double(mu[l]) - phase.sample_direction(double(u[i + l]), 0.5).cos_psi));
+    }
+    return worst;
+}
+}  // namespace
+
+// Float lanes sample a table from its FloatInverseTable (optics/phase/float_inverse_table.hpp):
+// within 2^-23 of the exact inverse at the same u, from its build check (the cubic within 2^-24
+// at every cell's middle) and the float evaluation's roundings. Checked at every one of the
+// 2^24 uniforms a float lane draws (uniform_float_from_bits) for the canonical Petzold table,
+// and for the other readings and a Fournier-Forand table at 2^18 of them; for all, at u = 0
+// and 1 and at both ends of every cell (s = u and s = 1 - u on the cells' boundaries).
+TEST_CASE("A tabulated phase function's inverse CDF in float lanes is within 2^-23 of sample_direction's") {
+    const FournierForandPhase ff = FournierForandPhase::from_backscatter_fraction(0.0183);
+    const TabulatedPhase tables[] = {petzold_m93(), petzold_m93(PetzoldReading::trapezoid),
+                                     petzold_m93(PetzoldReading::linear), ff.table()};
+    for (const TabulatedPhase& phase : tables) {
+        const bool exhaustive = &phase == &tables[0];
+        INFO(phase.name() << ", the table's error at the cells' middles " << phase.float_inverse().max_error());
+        REQUIRE(phase.float_inverse().usable());
+        CHECK(phase.float_inverse().max_error() <= FloatInverseTable::error_limit);
+        std::vector<float> u = phase.float_inverse().cell_boundaries();
+        u.insert(u.end(), {0.0f, 1.0f, 0.5f, std::nextafter(0.5f, 1.0f), std::nextafter(0.5f, 0.0f)});
+        PhotonRng rng(23, 0);
+        for (std::uint64_t k = 0; k < (exhaustive ? std::uint64_t{1} << 24 : std::uint64_t{1} << 18); ++k)
+            u.push_back(uniform_float_from_bits(exhaustive ? static_cast<std::uint32_t>(k << 8) : rng.bits()));
+        const double worst = worst_float_inverse(phase, std::move(u));
+        INFO("worst " << worst);
+        CHECK(worst <= 0x1p-23);
+    }
+}
+
+// A table whose nodes are too coarse, or too spiky, for the cells (a kink's jump in curvature, a
+// density varying by 1e4 between nodes) is refused when built, and its float lanes take the
+// double lanes' inverse, rounded to float: within half a float ulp of it (2^-25 at |mu| <= 1;
+// the double lanes' own value may differ in its last bits where the compiler contracts
+// multiply-adds differently in the two places it is inlined).
+TEST_CASE("A table the float lanes' inverse cannot follow is refused, and sampled in double lanes") {
+    std::vector<double> spiky_angle, spiky_value;
+    for (int i = 0; i <= 200; ++i) {
+        spiky_angle.push_back(0.9 * i);
+        spiky_value.push_back(i % 2 ? 1e4 : 1.0);
+    }
+    const TabulatedPhase tables[] = {
+        TabulatedPhase({0, 10, 30, 60, 90, 120, 150, 180}, {50, 20, 5, 1, 0.5, 0.4, 0.45, 0.5}, TabulatedConvention::linear_p),
+        TabulatedPhase(spiky_angle, spiky_value, TabulatedConvention::trapezoid)};
+    for (const TabulatedPhase& phase : tables) {
+        INFO("the table's error at the cells' middles " << phase.float_inverse().max_error());
+        CHECK(phase.float_inverse().max_error() > FloatInverseTable::error_limit);
+        CHECK_FALSE(phase.float_inverse().usable());
+        CHECK(phase.float_inverse().memory_bytes() == 0);
+        // The uniforms as floats in memory, as the lanes draw them: built in the registers from
+        // doubles, GCC 12 (-O2 and above) may carry a lane's double value past its rounding to
+        // float into the double lanes' reference.
+        std::vector<float> u;
+        for (double x : uniforms(4096, 29)) u.push_back(static_cast<float>(x));
+        for (std::size_t i = 0; i < u.size(); i += float_width) {
+            const Floats mu = phase.cos_psi(Floats(u.data() + i, lanes::stdx::element_aligned));
+            for (int g = 0; g < float_width; g += lane_width) {
+                const Reals reference = phase.cos_psi(Reals([&](int l) { return double(u[i + g + l]); }));
+                for (int l = 0; l < lane_width; ++l) REQUIRE(std::abs(double(mu[g + l]) - reference[l]) <= 0x1p-25 + 1e-15);
+            }
+        }
+    }
 }
 
 namespace {

@@ -108,6 +108,19 @@ SECCHI_KERNEL Reals lookup(const Table& table, const Reals& index) {
     return lookup(table, stdx::static_simd_cast<Ints>(index));
 }
 
+/// f (a function of Reals) for each lane of a vector of floats, lane_width lanes at a time in
+/// double, the results rounded to float: a double-lane computation serving float lanes.
+template <class FloatLanes, class F>
+SECCHI_KERNEL FloatLanes through_doubles(const FloatLanes& x, F&& f) {
+    constexpr int width = static_cast<int>(FloatLanes::size());
+    alignas(64) float out[width];
+    for (int g = 0; g < width; g += lane_width) {
+        const Reals y = f(Reals([&](int l) { return static_cast<double>(x[g + l]); }));
+        for (int l = 0; l < lane_width; ++l) out[g + l] = static_cast<float>(y[l]);
+    }
+    return FloatLanes(out, aligned);
+}
+
 /// Row index[l] of `rows` for every lane l, as eight vectors: column c's holds each lane's
 /// element c. One load per lane and a transposition in registers (AVX-512: 8 x 8; AVX2: two
 /// 4 x 4 per row half), instead of a gather per column; elsewhere a loop over the lanes.

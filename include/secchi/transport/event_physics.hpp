@@ -182,7 +182,7 @@ concept LanePhaseSampler = requires(const P p, Lanes u) {
 };
 
 /// A phase function whose cos psi the lanes of Real sample in the vectors: with its lane
-/// sampler for Real, or in float lanes with its sampler for double lanes (a table), by groups.
+/// sampler for Real, or in float lanes with its sampler for double lanes, by groups of lanes.
 template <class P, class Real>
 concept LaneSampled = LanePhaseSampler<P, Real> ||
                       (std::is_same_v<scalar_t<Real>, float> && LanePhaseSampler<P, lanes::Reals>);
@@ -194,14 +194,7 @@ SECCHI_KERNEL Real lane_cos_psi(const P& p, const Real& u) {
     if constexpr (LanePhaseSampler<P, Real>) {
         return p.cos_psi(u);
     } else {
-        using T = scalar_t<Real>;
-        constexpr int width = static_cast<int>(Real::size());
-        alignas(64) T cos_psi[width];
-        for (int g = 0; g < width; g += lanes::lane_width) {
-            const lanes::Reals mu = p.cos_psi(lanes::Reals([&](int l) { return static_cast<double>(u[g + l]); }));
-            for (int l = 0; l < lanes::lane_width; ++l) cos_psi[g + l] = static_cast<T>(mu[l]);
-        }
-        return Real(cos_psi, lanes::aligned);
+        return lanes::through_doubles(u, [&](const lanes::Reals& v) { return p.cos_psi(v); });
     }
 }
 
@@ -215,11 +208,19 @@ concept LaneSampledMedium = requires(const M m) {
 /// A medium whose phase function at depth z is a mixture of components (eq. 5.5-5.6; e.g.
 /// StratifiedWater): choose(z, u1) gives the component and the rescaled uniform its own sampler
 /// takes, visit_phase(i, f) calls f on component i.
+namespace detail {
+/// A visitor that takes any component's phase function (for PhaseMixtureMedium's check).
+struct AnyPhase {
+    template <class P>
+    void operator()(const P&) const {}
+};
+}  // namespace detail
 template <class M>
 concept PhaseMixtureMedium = requires(const M m, double z, double u, std::size_t i) {
     { m.choose(z, u).index } -> std::convertible_to<std::size_t>;
     { m.choose(z, u).v } -> std::convertible_to<double>;
     { m.components() } -> std::convertible_to<std::size_t>;
+    m.visit_phase(i, detail::AnyPhase{});
 };
 
 /// The mixture's scattering angles per lane: each lane's component chosen lane by lane at its

@@ -24,6 +24,10 @@
 //    64-byte row per sub-interval (and per segment), which photons in lanes read with one load
 //    per lane.
 //  * A table ending before 180 deg is extended to 180 deg with its last value.
+// Photons in double lanes take the same root in the vectors (cos_psi); photons in float lanes
+// take a table of the inverse CDF built with the phase function (float_inverse_table.hpp:
+// cos psi within 2^-23 of sample_direction's), or the double lanes' root where that table is
+// refused.
 // Either way the table is then divided by its exact integral, raw_integral(), so that
 // 2 pi int p sin dpsi = 1.
 #include "secchi/core/config.hpp"
@@ -33,6 +37,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -42,6 +47,7 @@
 #include "secchi/core/error.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/math.hpp"
+#include "secchi/optics/phase/float_inverse_table.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
 namespace secchi::SECCHI_ISA {
@@ -161,6 +167,9 @@ public:
         if (convention_ == TabulatedConvention::linear_p) tabulate_sub_nodes();
         guide_ = detail::CumulativeGuide(guided());
         for (std::size_t i = 0; i + 1 < theta_.size(); ++i) narrow_segments_ = narrow_segments_ && width(i) < 0.2;
+#if SECCHI_HAS_LANES
+        float_inverse_ = std::make_shared<const FloatInverseTable>(*this);  // (sample_direction and eval are ready)
+#endif
     }
 
     /// p(psi) in 1/sr, normalised. At mu = 1 inside the power law (where p is infinite for
@@ -247,6 +256,18 @@ public:
         if (any_of(from_psi)) where(from_psi, cosine) = sin_cos(psi).cos;
         return cosine;
     }
+
+    /// sample_direction's cos psi for a vector of float uniforms (photons in float lanes): from
+    /// the table of the inverse (float_inverse_table.hpp; within 2^-23 of sample_direction's at
+    /// the same u), or, where the table is refused, from cos_psi in double lanes.
+    template <class Lanes>
+        requires std::same_as<Lanes, lanes::Floats>
+    Lanes cos_psi(const Lanes& u1) const {
+        if (float_inverse_->usable()) return float_inverse_->cos_psi(u1);
+        return lanes::through_doubles(u1, [&](const lanes::Reals& u) { return cos_psi(u); });
+    }
+    /// The float lanes' table of the inverse CDF.
+    [[nodiscard]] const FloatInverseTable& float_inverse() const { return *float_inverse_; }
 #endif
 
     /// Probability that the scattering angle is below psi (radians), exact.
@@ -642,6 +663,9 @@ private:
     std::vector<double> p_slope_;              // per segment: p's slope (linear_p)
     detail::CumulativeGuide guide_;            // search over guided() for sample()
     double raw_ = 0.0;
+#if SECCHI_HAS_LANES
+    std::shared_ptr<const FloatInverseTable> float_inverse_;  // float lanes' inverse CDF, shared by copies
+#endif
 };
 
 }  // namespace secchi
