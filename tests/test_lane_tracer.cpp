@@ -274,7 +274,8 @@ TEMPLATE_TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's words, 
         }
     }
     CHECK(uniform_float_from_bits(0) == 0x1p-25f);
-    CHECK(uniform_float_from_bits(0xffffffffu) == 1.0f - 0x1p-25f);
+    CHECK(uniform_float_from_bits(0xffffffffu) == 1.0f);  // 2^24 - 1/2 rounds to 2^24 (core/rng.hpp)
+    CHECK(uniform_float_from_bits(0xfffffeffu) == 1.0f - 0x1p-23f);
 }
 
 TEST_CASE("Henyey-Greenstein's inverse CDF in float lanes is within float rounding of the double's") {

@@ -44,8 +44,11 @@ inline std::array<std::uint32_t, 4> philox_block(std::uint64_t block, std::uint6
 /// A 32-bit random word as a uniform double in the open interval (0, 1).
 inline double uniform_from_bits(std::uint32_t bits) { return (static_cast<double>(bits) + 0.5) * 0x1p-32; }
 
-/// A 32-bit random word as a uniform float in the open interval (0, 1), from its top 24 bits
-/// (a float's precision): (w / 2^8 + 1/2) 2^-24, exact. For photons in float lanes.
+/// A 32-bit random word as a uniform float in (0, 1], from its top 24 bits (a float's
+/// precision): (w / 2^8 + 1/2) 2^-24, exact below 1/2; above, the half rounds to an even
+/// integer of the top bits, and the top word gives 1 exactly (once in 2^24 draws: a free path
+/// -ln u of 0, an angle at the end of its range, never a division by zero). For photons in
+/// float lanes.
 inline float uniform_float_from_bits(std::uint32_t bits) {
     return (static_cast<float>(bits >> 8) + 0.5f) * 0x1p-24f;
 }
