@@ -108,7 +108,7 @@ public:
         const Words32 bits = lanes::stdx::__proposed::simd_bit_cast<Words32>(s);
         const Words32 side = lanes::stdx::static_simd_cast<Words32>(select(backward, Floats(float(rows_per_side)), Floats(0.0f)));
         const Words32 cell = max(bits >> shift, Words32(first_cell - 1)) - Words32(first_cell - 1) + side;  // row 0: s < 2^-25
-        const Floats t = lanes::stdx::static_simd_cast<Floats>(bits & Words32(low_mask)) * Floats(0x1p-15f);
+        const Floats t = lanes::stdx::static_simd_cast<Floats>(bits & Words32(low_mask)) * Floats(t_scale);
         alignas(64) std::uint32_t index[width];
         alignas(64) float c0[width], a1[width], a2[width], a3[width];
         cell.copy_to(index, lanes::aligned);
@@ -126,7 +126,7 @@ private:
         float c0, a1, a2, a3;
     };
     static constexpr int shift = 23 - mantissa_bits;
-    static_assert(shift == 15, "t's scale 2^-15 in cos_psi is 2^-shift");
+    static constexpr float t_scale = 1.0f / static_cast<float>(1u << shift);  // 2^-shift, exact
     static constexpr float smallest_s = 0x1p-25f;
     static constexpr std::uint32_t low_mask = (1u << shift) - 1u;
     static constexpr std::uint32_t first_cell = std::bit_cast<std::uint32_t>(smallest_s) >> shift;
