@@ -14,6 +14,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "secchi/core/math.hpp"
@@ -85,13 +86,27 @@ inline constexpr std::array<double, 8> gl16_w{
     0.1495959888165767320815017, 0.1246289712555338720524763, 0.0951585116824927848099251,
     0.0622535239386478928628438, 0.0271524594117540948517806};
 
-/// int_a^b f(x) dx on one panel.
+/// int_a^b f(x) dx on one panel: half times the weighted sum over the nodes, returned as the
+/// two factors (integrate_panels adds their product to its sum in one multiply-add). Every
+/// value of f goes straight into a mul_add (core/math.hpp), never into a plain sum, which the
+/// compiler may fuse with f's last multiply where f is inlined and not where it is called: so
+/// an integral rounds alike either way, and two forms of one phase function (a type and its
+/// AnyPhaseFunction) give the same bits wherever they are integrated.
 template <class F>
-double gauss_legendre(F&& f, double a, double b) {
+std::pair<double, double> gauss_legendre_factors(F&& f, double a, double b) {
     const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
     double sum = 0.0;
-    for (std::size_t i = 0; i < gl16_x.size(); ++i)
-        sum += gl16_w[i] * (f(mid - half * gl16_x[i]) + f(mid + half * gl16_x[i]));
+    for (std::size_t i = 0; i < gl16_x.size(); ++i) {
+        sum = mul_add(gl16_w[i], f(mul_add(-half, gl16_x[i], mid)), sum);
+        sum = mul_add(gl16_w[i], f(mul_add(half, gl16_x[i], mid)), sum);
+    }
+    return {half, sum};
+}
+
+/// int_a^b f(x) dx on one panel (16-point Gauss-Legendre).
+template <class F>
+double gauss_legendre(F&& f, double a, double b) {
+    const auto [half, sum] = gauss_legendre_factors(f, a, b);
     return half * sum;
 }
 
@@ -99,7 +114,10 @@ double gauss_legendre(F&& f, double a, double b) {
 template <class F>
 double integrate_panels(F&& f, std::span<const double> edges) {
     double sum = 0.0;
-    for (std::size_t i = 0; i + 1 < edges.size(); ++i) sum += gauss_legendre(f, edges[i], edges[i + 1]);
+    for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
+        const auto [half, panel_sum] = gauss_legendre_factors(f, edges[i], edges[i + 1]);
+        sum = mul_add(half, panel_sum, sum);
+    }
     return sum;
 }
 
