@@ -40,10 +40,11 @@
 // Depth-varying water (a Medium that is not depth_independent, e.g. StratifiedWater): the
 // step stays in the vectors but for what depends on depth, which goes lane by lane in double
 // through the medium, as PhotonTracer computes it for one photon: the free path
-// (Medium::distance_to of -ln u, manual 3.3.4), the albedo at the event's depth, continuous
-// absorption's decay along a flight and to a detector's plane (Medium::optical_path), and the
-// scattering direction from the depth's mixture of phase functions (eq. 5.5-5.6). Homogeneous
-// water computes these in the vectors from its constants.
+// (Medium::distance_to of -ln u, manual 3.3.4), the albedo at the event's depth, the optical
+// path of continuous absorption along a flight and to a detector's plane (Medium::optical_path;
+// its exponential then in the vectors, as in homogeneous water), and the scattering direction
+// from the depth's mixture of phase functions (eq. 5.5-5.6). Homogeneous water computes these
+// in the vectors from its constants.
 //
 // Without objects in the water (scene/geometry.hpp: LaneTracer has no geometry parameter; its
 // base is PhotonTracer with NoGeometry), with weighted photons where depth importance is on
@@ -75,12 +76,28 @@
 #if SECCHI_HAS_LANES
 namespace secchi::SECCHI_ISA {
 
+/// exp(-tau) per lane for optical paths tau >= 0 (lanes::exp, in Real): the transmittance of
+/// flights, LaneAbsorption's and LaneMediumAbsorption's. In floats within a relative 4 float ulp
+/// of exp(-tau) (lanes::exp), 0 where tau > 87; in doubles exp_table's value (core/math.hpp), 0
+/// where tau > 707 (e^-707 < 1e-307).
+template <class Real>
+SECCHI_KERNEL lanes::LanesOf<Real> transmittance_of_optical_path(const lanes::LanesOf<Real>& tau) {
+    using V = lanes::LanesOf<Real>;
+    const V x = -tau;
+    if constexpr (std::same_as<Real, float>) {
+        return lanes::exp(x);
+    } else {  // lanes::exp holds exp_table's values inside (-708, 709) only
+        V out = lanes::exp(lanes::stdx::max(x, V(-707.0)));
+        lanes::stdx::where(x < -707.0, out) = 0.0;
+        return out;
+    }
+}
+
 /// Absorption along straight flights in homogeneous water, one flight per lane: the
-/// transmittance exp(-a s) over path lengths s (lanes::exp, in Real). LaneTracer's weights decay
-/// by it with continuous absorption, and so do its detectors' scores on the way to their planes
-/// (IrradiancePlanes::record_lanes). In floats within a relative (a s + 8) 2^-24 of exp(-a s)
-/// (the product a s rounds once; lanes::exp is within 4 float ulp of exp), 0 where a s > 87;
-/// in doubles exp_table's value (core/math.hpp), 0 where a s > 707 (e^-707 < 1e-307). (A flight
+/// transmittance exp(-a s) over path lengths s (transmittance_of_optical_path). LaneTracer's
+/// weights decay by it with continuous absorption, and so do its detectors' scores on the way to
+/// their planes (IrradiancePlanes::record_lanes). In floats within a relative (a s + 8) 2^-24 of
+/// exp(-a s) (the product a s rounds once; lanes::exp is within 4 float ulp of exp). (A flight
 /// is at most a free path long, -ln u / b with continuous absorption, so a s is large only in
 /// water that absorbs far more than it scatters.)
 template <class Real>
@@ -90,30 +107,26 @@ struct LaneAbsorption {
     [[nodiscard]] SECCHI_KERNEL lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& /*z0*/,
                                                                    const lanes::LanesOf<Real>& /*uz*/,
                                                                    const lanes::LanesOf<Real>& s) const {
-        using V = lanes::LanesOf<Real>;
-        const V x = -a * s;
-        if constexpr (std::same_as<Real, float>) {
-            return lanes::exp(x);
-        } else {  // lanes::exp holds exp_table's values inside (-708, 709) only
-            V out = lanes::exp(lanes::stdx::max(x, V(-707.0)));
-            lanes::stdx::where(x < -707.0, out) = 0.0;
-            return out;
-        }
+        return transmittance_of_optical_path<Real>(a * s);
     }
 };
 
 /// Absorption along straight flights in depth-varying water (a Medium whose coefficients
-/// depend on depth), one flight per lane: exp(-int_0^s a(z0 + uz t) dt) from the medium's
-/// optical path (Medium::optical_path, exact for StratifiedWater's linear profiles: manual
-/// 3.3.4), lane by lane in double, as PhotonTracer computes it for one photon.
+/// depend on depth), one flight per lane: exp(-int_0^s a(z0 + uz t) dt), the optical path from
+/// the medium (Medium::optical_path, exact for StratifiedWater's linear profiles: manual 3.3.4)
+/// lane by lane in double, as PhotonTracer computes it for one photon, rounded to Real, and its
+/// exponential in the vectors (transmittance_of_optical_path). (Not libm's exp lane by lane: a
+/// function that returns a vector and calls it enters libm's SSE code with the vector
+/// registers' upper halves in use, which Intel cores pay for on every instruction.)
 template <Medium M, class Real>
 struct LaneMediumAbsorption {
     const M& medium;
     [[nodiscard]] lanes::LanesOf<Real> transmittance(const lanes::LanesOf<Real>& z0, const lanes::LanesOf<Real>& uz,
                                                      const lanes::LanesOf<Real>& s) const {
-        return lanes::LanesOf<Real>([&](auto l) {
-            return static_cast<Real>(std::exp(-medium.optical_path(Coefficient::absorption, z0[l], uz[l], s[l])));
+        const lanes::LanesOf<Real> tau([&](auto l) {
+            return static_cast<Real>(medium.optical_path(Coefficient::absorption, z0[l], uz[l], s[l]));
         });
+        return transmittance_of_optical_path<Real>(tau);
     }
 };
 
