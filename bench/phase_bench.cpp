@@ -6,7 +6,8 @@
 //
 // Samplers: M93's Petzold table in the canonical reading (linear_p, with the power law below
 // the first node; problems 2, 3 and 6), the same table in the trapezoid reading, and
-// Henyey-Greenstein g = 0.9 (problem 1's yardstick). Each figure is the median [min-max] of
+// Henyey-Greenstein g = 0.9 (problem 1's yardstick), and Fournier-Forand (b_b/b = 0.0183,
+// sampled from its table). Each figure is the median [min-max] of
 // R rounds over N uniforms (default 2^20, 7 rounds, about 3 s); the sum of the cosines is
 // printed as the check that both paths sample the same angles (equal to the printed digits:
 // the lanes' cos psi is within a few ulp of one photon's).
@@ -14,6 +15,7 @@
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/rng.hpp"
 #include "secchi/io/cli.hpp"
+#include "secchi/optics/phase/fournier_forand.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include <fstream>
@@ -99,6 +101,8 @@ int main(int argc, char** argv) {
         row("Petzold, canonical reading (linear p, power law below 0.126 deg)", time_sampler(petzold_m93(), u, rounds));
         row("Petzold, trapezoid reading", time_sampler(petzold_m93(PetzoldReading::trapezoid), u, rounds));
         row("Henyey-Greenstein, g = 0.9", time_sampler(HenyeyGreensteinPhase(0.9), u, rounds));
+        row("Fournier-Forand, b_b/b = 0.0183 (its table, trapezoid reading)",
+            time_sampler(FournierForandPhase::from_backscatter_fraction(0.0183), u, rounds));
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "phase_bench: " << e.what() << "\n";

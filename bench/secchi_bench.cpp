@@ -20,6 +20,7 @@
 #include "problem3.hpp"
 #include "secchi/io/cli.hpp"
 #include "secchi/io/json_writer.hpp"
+#include "secchi/optics/phase/fournier_forand.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
@@ -182,11 +183,20 @@ int main(int argc, char** argv) {
         fig["events_per_s_per_core_hg_float_lanes_map_reused"] =
             events_per_second<HenyeyGreensteinPhase, FloatLaneTracer>(hg, 100'000 * scale, repeats, true);
         fig["float_lane_width"] = lanes::width_of<float>;
-        // Petzold in the lanes (the table's sampler in double lanes; float lanes by groups of them).
+        // Petzold in the lanes (the table's sampler in double lanes; in float lanes its inverse
+        // CDF's float table, float_inverse_table.hpp).
         fig["events_per_s_per_core_petzold_lanes"] =
             events_per_second<TabulatedPhase, LaneTracer>(petzold, 100'000 * scale, repeats);
         fig["events_per_s_per_core_petzold_float_lanes"] =
             events_per_second<TabulatedPhase, FloatLaneTracer>(petzold, 100'000 * scale, repeats);
+#endif
+        // Fournier-Forand (b_b/b = 0.0183, Petzold's; sampled from its table), each tracer.
+        const auto ff = FournierForandPhase::from_backscatter_fraction(0.0183);
+        fig["events_per_s_per_core_ff"] = events_per_second(ff, 100'000 * scale, repeats);
+#if SECCHI_HAS_LANES
+        fig["events_per_s_per_core_ff_lanes"] = events_per_second<FournierForandPhase, LaneTracer>(ff, 100'000 * scale, repeats);
+        fig["events_per_s_per_core_ff_float_lanes"] =
+            events_per_second<FournierForandPhase, FloatLaneTracer>(ff, 100'000 * scale, repeats);
 #endif
 
         // Photons per second for problems 1a, 2a and 2b (sun at 60 deg, n = 1.34, continuous

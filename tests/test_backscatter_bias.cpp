@@ -78,6 +78,11 @@ TEST_CASE("backward uniforms through AnyPhaseFunction: the held function's, or r
     const TabulatedPhase petzold = petzold_m93();
     CHECK(AnyPhaseFunction{petzold}.backward_uniforms() == petzold.backward_uniforms());
     CHECK(AnyPhaseFunction{HenyeyGreensteinPhase(0.8)}.backward_uniforms() == HenyeyGreensteinPhase(0.8).backward_uniforms());
+    // Fournier-Forand's are its table's: 1 - F(90 deg) is its backscatter fraction (the closed
+    // form's, to the table's accuracy: fournier_forand.hpp).
+    const auto ff = FournierForandPhase::from_backscatter_fraction(0.0183);
+    CHECK(AnyPhaseFunction{ff}.backward_uniforms() == ff.table().backward_uniforms());
+    CHECK(1.0 - ff.backward_uniforms().first == Approx(0.0183).epsilon(1e-4));
     CHECK_THROWS_WITH(AnyPhaseFunction{IsotropicPhase{}}.backward_uniforms(),
                       Catch::Contains("phase") && Catch::Contains("isotropic") && Catch::Contains("backward uniforms"));
 }

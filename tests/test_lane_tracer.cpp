@@ -652,8 +652,8 @@ Estimate events_per_photon(const TransportResult<CompactRecord>& r) {
 
 namespace {
 /// `Tracer` against PhotonTracer: every absorption mode, a Lambertian bottom, Fresnel surface,
-/// roulette, a truncation by scattering order, and a phase function sampled lane by lane
-/// (Petzold).
+/// roulette, a truncation by scattering order, and tabulated phase functions (Petzold, and
+/// Fournier-Forand through its table).
 template <template <class...> class Tracer>
 void check_agrees_with_photon_tracer() {
     struct Case {
@@ -688,6 +688,13 @@ void check_agrees_with_photon_tracer() {
     for (std::size_t i = 0; i < s.depths.size(); ++i)
         for (int k = 0; k < 4; ++k) testing::check_agree(a.irradiance[i][k], b.irradiance[i][k], "Petzold irradiance");
     testing::check_agree(events_per_photon(a), events_per_photon(b), "Petzold stored events per photon");
+    const auto ff = FournierForandPhase::from_backscatter_fraction(0.01);
+    static_assert(LaneSampled<FournierForandPhase, lanes::Reals> && LaneSampled<FournierForandPhase, lanes::Floats>);
+    const auto c = trace<PhotonTracer>(ff, s, Bottom{});
+    const auto d = trace<Tracer>(ff, s, Bottom{});
+    for (std::size_t i = 0; i < s.depths.size(); ++i)
+        for (int k = 0; k < 4; ++k) testing::check_agree(c.irradiance[i][k], d.irradiance[i][k], "Fournier-Forand irradiance");
+    testing::check_agree(events_per_photon(c), events_per_photon(d), "Fournier-Forand stored events per photon");
 }
 
 /// `Tracer` against PhotonTracer under a wind-blown surface with a grazing sun and a uniform sky

@@ -23,9 +23,11 @@
 // 6.9e-6 and 8.0e-6 (relative) of the closed form from 1e-4 to 180 deg.
 #include "secchi/core/config.hpp"
 #include <cmath>
+#include <concepts>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "secchi/core/error.hpp"
@@ -54,6 +56,19 @@ public:
     PhaseSample sample(double u1, double u2) const { return table_.sample(u1, u2); }
     /// The direction of sample(u1, u2) without its density (the table's).
     PhaseDirection sample_direction(double u1, double u2) const { return table_.sample_direction(u1, u2); }
+#if SECCHI_HAS_LANES
+    /// sample_direction's cos psi for lanes of uniforms (photons in lanes,
+    /// transport/event_physics.hpp): the table's, in the vectors for double lanes and from its
+    /// inverse CDF's float table for float lanes (TabulatedPhase::cos_psi).
+    template <class Lanes>
+        requires requires(const TabulatedPhase& t, const Lanes& u) { { t.cos_psi(u) } -> std::same_as<Lanes>; }
+    Lanes cos_psi(const Lanes& u1) const {
+        return table_.cos_psi(u1);
+    }
+#endif
+    /// The uniforms u1 whose sample_direction scatters backward (the table's), for a
+    /// backscatter bias (transport/importance.hpp).
+    std::pair<double, double> backward_uniforms() const { return table_.backward_uniforms(); }
     std::vector<double> breakpoints() const { return table_.breakpoints(); }
 
     /// The closed form (Mobley et al. 2002 eq. 5), 1/sr; infinite at cos_psi = 1.
