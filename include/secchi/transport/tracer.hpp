@@ -753,7 +753,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             return BackscatterBias(s.backscatter_bias, begin, end);
         } else {
             reject("backscatter bias", s.backscatter_bias,
-                   "needs homogeneous water whose phase function names its backward uniforms (Henyey-Greenstein, a table)");
+                   "needs homogeneous water whose phase function names its backward uniforms (Henyey-Greenstein, a table, Fournier-Forand)");
         }
     }
 

@@ -54,7 +54,7 @@ struct AnyPhaseFunction {
         return std::visit(
             [&](const auto& f) -> std::pair<double, double> {
                 if constexpr (requires { f.backward_uniforms(); }) return f.backward_uniforms();
-                else reject("phase", name(), "names no backward uniforms for a backscatter bias (Henyey-Greenstein and tables do)");
+                else reject("phase", name(), "names no backward uniforms for a backscatter bias (Henyey-Greenstein, tables and Fournier-Forand do)");
             },
             p);
     }
