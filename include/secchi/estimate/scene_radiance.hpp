@@ -75,7 +75,7 @@ public:
         const double t_limit = std::min(ray.t_max, t_bottom);
         const auto hit = periodic_closest_hit(geometry_, map().section_width(), ray.origin, ray.direction, t_limit);
         if (hit) {  // an object ends the ray: the path to it, then the light it sends back
-            const ObjectMaterial material = geometry_.material(hit->material);
+            const ObjectMaterial& material = geometry_.material(hit->material);  // (a reference where the geometry keeps it: no shared_ptr copy per hit)
             if (material.specular > 0.0)
                 reject("object glossy albedo", material.specular,
                        "is not modelled by the second pass (a glossy surface's light needs the directions of the light "
