@@ -75,6 +75,7 @@ struct ProblemArgs {
     double radius = 0.05, omega = 0.005;
     std::optional<double> importance_cosine;  ///< None: slab's auto (PlaneParallelConfig::auto_importance)
     double backscatter_bias = 0.0;
+    std::string tracer = "photon";
 
     [[nodiscard]] secchi::PlaneParallelConfig config(const WaterChoice& water) const {
         water.check();
@@ -104,6 +105,7 @@ struct ProblemArgs {
         if (importance_cosine && *importance_cosine != 0.0)
             t.importance = {*importance_cosine, t.deepest_detector()};
         t.backscatter_bias = backscatter_bias;
+        cfg.tracer = secchi::parse_tracer(tracer);
         return cfg;
     }
 };
@@ -314,11 +316,11 @@ auto problem_function(F f) {
                std::vector<double> depths, std::uint64_t photons, std::optional<std::uint64_t> map_photons,
                std::optional<double> map_depth, std::uint64_t seed, unsigned threads, unsigned batches,
                std::string absorption, double radius, double omega, std::optional<double> importance_cosine,
-               double backscatter_bias, Extra... extra) {
+               double backscatter_bias, std::string tracer, Extra... extra) {
         return f(WaterChoice{std::move(phase), albedo, attenuation, water},
                  ProblemArgs{sun_zenith, sky, water_index, wind, bottom_depth, map_depth, bottom_albedo,
                              std::move(depths), photons, map_photons, seed, threads, batches, std::move(absorption),
-                             radius, omega, importance_cosine, backscatter_bias},
+                             radius, omega, importance_cosine, backscatter_bias, std::move(tracer)},
                  std::move(extra)...);
     };
 }
@@ -356,6 +358,10 @@ Monte Carlo:
                        backward part, the weights corrected (the upwelling irradiances at
                        depth; Henyey-Greenstein and tables such as petzold; not with
                        absorption="analog")
+  tracer="photon"      the first pass's tracer (slab's --tracer): )");
+    s.append(secchi::usage_names(secchi::tracer_names())).append(R"(
+                       photons one at a time, in SIMD lanes of doubles, or of floats
+                       (the same physics; the lanes split weighted photons only)
 Invalid values raise InputError (a ValueError) naming the parameter.)");
     return s;
 }
@@ -455,7 +461,7 @@ PYBIND11_MODULE(secchi, m) {
                           py::arg("map_depth") = py::none(), py::arg("seed") = 1, py::arg("threads") = 1,
                           py::arg("batches") = 32, py::arg("absorption") = "continuous", py::arg("radius") = 0.05,
                           py::arg("omega") = 0.005, py::arg("importance_cosine") = py::none(),
-                          py::arg("backscatter_bias") = 0.0, extra...};
+                          py::arg("backscatter_bias") = 0.0, py::arg("tracer") = "photon", extra...};
     };
     const auto define = [&m](const char* name, auto function, const std::string& doc, auto arguments) {
         std::apply([&](auto&&... args) { m.def(name, function, args..., doc.c_str()); }, arguments);

@@ -4,12 +4,14 @@
 // within 4 combined standard errors (fixed in advance; transport_checks.hpp).
 #include <catch2/catch.hpp>
 #include "secchi/core/stats.hpp"
+#include "secchi/optics/phase/any_phase.hpp"
 #include "secchi/optics/phase/fournier_forand.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
+#include "secchi/solver/phase_choice.hpp"
 #include "secchi/transport/lane_tracer.hpp"
 #include "transport_checks.hpp"
 #include <algorithm>
@@ -312,6 +314,43 @@ TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in l
             CHECK(std::abs(cos_psi[l] - hg.sample_direction(u[i + l], 0.5).cos_psi) <= 1e-15);
             CHECK(wrapped[l] == slab.wrap(x[l]));
         }
+    }
+}
+
+// A phase function's scattering angles in the lanes (EventPhysics::angles), its type known
+// and erased: AnyPhaseFunction samples with the held type's lane sampler, or its scalar sampler
+// lane by lane, and the lanes take phi = 2 pi u_phi whatever the type, so the two give the same
+// bits in double and in float lanes (the Python module's phase functions are erased; slab's are
+// not: tests python_tests, "bit-identical to slab"). Mixtures of HG and of Schlick included.
+TEMPLATE_TEST_CASE("A phase function's angles in the lanes are the same whether its type is known or erased", "",
+                   Reals, Floats) {
+    using V = TestType;
+    constexpr int width = static_cast<int>(V::size());
+    const auto u = uniforms(64 * width, 5);
+    std::vector<AnyPhase> phases;
+    for (const char* spec : {"isotropic", "rayleigh", "pure-water", "hg:0.9", "schlick:0.6", "ff:0.0183", "petzold"})
+        phases.push_back(parse_phase(spec));
+    phases.emplace_back(PhaseMixture<HenyeyGreensteinPhase>({HenyeyGreensteinPhase(0.95), HenyeyGreensteinPhase(-0.3)}, {0.8, 0.2}));
+    phases.emplace_back(PhaseMixture<SchlickPhase>({SchlickPhase(0.8), SchlickPhase(-0.2)}, {0.7, 0.3}));
+    for (const AnyPhase& any : phases) {
+        std::visit(
+            [&](const auto& typed) {
+                const HomogeneousWater<std::decay_t<decltype(typed)>> known(0.1, 0.4, typed);
+                const HomogeneousWater<AnyPhaseFunction> erased(0.1, 0.4, AnyPhaseFunction{any});
+                INFO(erased.phase().name());
+                int differing = 0;
+                for (std::size_t i = 0; i + 2 * width <= u.size(); i += 2 * width) {
+                    const V z = lanes_of<V>([&](int l) { return 3.0 * u[i + l]; });
+                    const V u_psi = lanes_of<V>([&](int l) { return u[i + l]; });
+                    const V u_phi = lanes_of<V>([&](int l) { return u[i + width + l]; });
+                    const auto a = EventPhysics::angles(known, z, u_psi, u_phi);
+                    const auto b = EventPhysics::angles(erased, z, u_psi, u_phi);
+                    for (int l = 0; l < width; ++l)
+                        differing += (a.cos_psi[l] != b.cos_psi[l] || a.phi[l] != b.phi[l]) ? 1 : 0;
+                }
+                CHECK(differing == 0);
+            },
+            any);
     }
 }
 

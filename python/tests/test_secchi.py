@@ -42,6 +42,12 @@ SLAB_CASES = [
       "--store", "voi-grid", "--wind", "5"]),
     (dict(phase="petzold", albedo=0.2, sun_zenith=30, backscatter_bias=0.2),
      ["--phase", "petzold", "--albedo", "0.2", "--sun-zenith", "30", "--backscatter-bias", "0.2"]),
+    (dict(phase="petzold", albedo=0.9, sun_zenith=30, tracer="lanes-float", store="voi-grid"),
+     ["--phase", "petzold", "--albedo", "0.9", "--sun-zenith", "30", "--tracer", "lanes-float", "--store", "voi-grid"]),
+    (dict(phase="hg:0.9", albedo=0.2, sun_zenith=10, tracer="lanes", backscatter_bias=0.2, bottom_depth=3,
+          bottom_albedo=0.5),
+     ["--phase", "hg:0.9", "--albedo", "0.2", "--sun-zenith", "10", "--tracer", "lanes", "--backscatter-bias", "0.2",
+      "--bottom-depth", "3", "--bottom-albedo", "0.5"]),
 ]
 
 
@@ -71,9 +77,20 @@ def test_solve_is_bit_identical_to_slab(tmp_path, keywords, options):
         np.testing.assert_array_equal(getattr(r, name + "_se"), [d[key + "_se"] for d in slab["depths"]])
 
 
-def test_threads_do_not_change_the_numbers():
-    one = secchi.solve(phase="rayleigh", depths=[0.5, 2], threads=1, **SMALL)
-    two = secchi.solve(phase="rayleigh", depths=[0.5, 2], threads=2, **SMALL)
+def test_trace_map_takes_the_tracer_of_solve():
+    keywords = dict(phase="petzold", depths=[1, 4], tracer="lanes", **SMALL)
+    first = secchi.trace_map(**keywords).first_pass
+    both = secchi.solve(**keywords, store="voi-grid")
+    for name in ("ed", "ed_se", "eu", "eu_se", "eod", "eod_se", "eou", "eou_se"):
+        np.testing.assert_array_equal(getattr(first, name), getattr(both, name), err_msg=name)
+    photon = secchi.solve(**dict(keywords, tracer="photon"), store="voi-grid")
+    assert not np.array_equal(photon.ed, both.ed)  # another tracer draws other photons
+
+
+@pytest.mark.parametrize("tracer", ["photon", "lanes-float"])
+def test_threads_do_not_change_the_numbers(tracer):
+    one = secchi.solve(phase="rayleigh", depths=[0.5, 2], threads=1, tracer=tracer, **SMALL)
+    two = secchi.solve(phase="rayleigh", depths=[0.5, 2], threads=2, tracer=tracer, **SMALL)
     for name in ("ed", "ed_se", "eu", "eu_se", "eod", "eod_se", "eou", "eou_se", "lu", "lu_se"):
         np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)
 
@@ -166,6 +183,7 @@ def test_radiance_averages_to_the_solvers_lu(bottom_map):
     (dict(backscatter_bias=1.0), "backscatter bias"),
     (dict(backscatter_bias=0.2, phase="isotropic"), "phase"),
     (dict(backscatter_bias=0.2, absorption="analog"), "backscatter bias"),
+    (dict(tracer="gpu"), "tracer"),
 ])
 def test_invalid_input_raises_value_error_naming_the_parameter(keywords, parameter):
     with pytest.raises(ValueError, match=re.escape(parameter)) as e:

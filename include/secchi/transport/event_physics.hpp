@@ -21,6 +21,7 @@
 #include "secchi/core/config.hpp"
 #include "secchi/core/math.hpp"
 #include "secchi/optics/medium.hpp"
+#include "secchi/optics/phase/lane_sampling.hpp"
 #include "secchi/transport/settings.hpp"
 #include "secchi/core/lanes.hpp"
 #include <algorithm>
@@ -162,7 +163,9 @@ public:
     /// function with a lane sampler (cos_psi(Reals): a per-lane inverse CDF, phi = 2 pi u_phi),
     /// in float lanes also one for double lanes only (a table) by groups of double lanes; a
     /// mixture of phase functions (depth-varying water) by its components (mixture_angles); any
-    /// other phase function lane by lane.
+    /// other phase function's cos psi lane by lane. In the lanes phi = 2 pi u_phi for every phase
+    /// function (computed in the lanes' type: rotational symmetry, manual section 5.8), so that a
+    /// phase function gives the same angles whether its type is known or erased (AnyPhaseFunction).
     template <Medium M, class Real>
     SECCHI_KERNEL static ScatteringAngles<Real> angles(const M& medium, const Real& z, const Real& u_psi,
                                                        const Real& u_phi);
@@ -174,29 +177,6 @@ private:
 };
 
 #if SECCHI_HAS_LANES
-/// A phase function that samples cos psi for a vector of uniforms at once, with phi = 2 pi u2
-/// (as its scalar sample_direction does).
-template <class P, class Lanes = lanes::Reals>
-concept LanePhaseSampler = requires(const P p, Lanes u) {
-    { p.cos_psi(u) } -> std::same_as<Lanes>;
-};
-
-/// A phase function whose cos psi the lanes of Real sample in the vectors: with its lane
-/// sampler for Real, or in float lanes with its sampler for double lanes, by groups of lanes.
-template <class P, class Real>
-concept LaneSampled = LanePhaseSampler<P, Real> ||
-                      (std::is_same_v<scalar_t<Real>, float> && LanePhaseSampler<P, lanes::Reals>);
-
-/// cos psi of phase function p (LaneSampled) for each lane's uniform u.
-template <class P, class Real>
-    requires LaneSampled<P, Real>
-SECCHI_KERNEL Real lane_cos_psi(const P& p, const Real& u) {
-    if constexpr (LanePhaseSampler<P, Real>) {
-        return p.cos_psi(u);
-    } else {
-        return lanes::through_doubles(u, [&](const lanes::Reals& v) { return p.cos_psi(v); });
-    }
-}
 
 /// A medium of one phase function (phase_type, phase()) sampled in the vectors of Real.
 template <class M, class Real>
@@ -225,9 +205,9 @@ concept PhaseMixtureMedium = requires(const M m, double z, double u, std::size_t
 
 /// The mixture's scattering angles per lane: each lane's component chosen lane by lane at its
 /// depth (choose, in double), then each component present sampled in the vectors over all lanes
-/// where it is LaneSampled (kept in the lanes that chose it, phi = 2 pi u_phi), else lane by
-/// lane through its own sampler: the angles scattering_direction gives lane by lane, but for
-/// the lane samplers' rounding.
+/// where it is LaneSampled (kept in the lanes that chose it), else lane by lane through its own
+/// sampler; phi = 2 pi u_phi in every lane: the angles scattering_direction gives lane by lane,
+/// but for the lane samplers' rounding (and in float lanes phi's).
 template <PhaseMixtureMedium M, class Real>
 ScatteringAngles<Real> mixture_angles(const M& medium, const Real& z, const Real& u_psi, const Real& u_phi) {
     using T = scalar_t<Real>;
@@ -252,9 +232,7 @@ ScatteringAngles<Real> mixture_angles(const M& medium, const Real& z, const Real
             } else {
                 for (int l = 0; l < width; ++l)
                     if (index[l] == i) {
-                        const PhaseDirection d = sample_direction_of(p, static_cast<double>(v[l]), static_cast<double>(u_phi[l]));
-                        cos_psi[l] = static_cast<T>(d.cos_psi);
-                        azimuth[l] = static_cast<T>(d.phi);
+                        cos_psi[l] = static_cast<T>(sample_direction_of(p, static_cast<double>(v[l]), static_cast<double>(u_phi[l])).cos_psi);
                     }
             }
         });
@@ -277,14 +255,11 @@ SECCHI_KERNEL ScatteringAngles<Real> EventPhysics::angles(const M& medium, const
             return {lane_cos_psi(medium.phase(), u_psi), static_cast<T>(two_pi) * u_phi};
         } else if constexpr (PhaseMixtureMedium<M>) {
             return mixture_angles(medium, z, u_psi, u_phi);
-        } else {
-            alignas(64) T cos_psi[width], azimuth[width];
-            for (int l = 0; l < width; ++l) {
-                const PhaseDirection d = scattering_direction(medium, static_cast<double>(z[l]), u_psi[l], u_phi[l]);
-                cos_psi[l] = static_cast<T>(d.cos_psi);
-                azimuth[l] = static_cast<T>(d.phi);
-            }
-            return {Real(cos_psi, lanes::aligned), Real(azimuth, lanes::aligned)};
+        } else {  // (phi = 2 pi u_phi as in the vectors: the same angles whatever the phase's type)
+            alignas(64) T cos_psi[width];
+            for (int l = 0; l < width; ++l)
+                cos_psi[l] = static_cast<T>(scattering_direction(medium, static_cast<double>(z[l]), u_psi[l], u_phi[l]).cos_psi);
+            return {Real(cos_psi, lanes::aligned), static_cast<T>(two_pi) * u_phi};
         }
 #endif
     }

@@ -4,7 +4,10 @@
 // photon loop instead visits once and runs on the concrete type, see solver/phase_choice.hpp).
 #include "secchi/core/config.hpp"
 #include "secchi/core/error.hpp"
+#include <concepts>
+#include <cstddef>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -12,6 +15,7 @@
 #include "secchi/optics/phase/fournier_forand.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/isotropic.hpp"
+#include "secchi/optics/phase/lane_sampling.hpp"
 #include "secchi/optics/phase/mixture.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
@@ -42,6 +46,28 @@ struct AnyPhaseFunction {
     PhaseDirection sample_direction(double u1, double u2) const {
         return std::visit([&](const auto& f) { return sample_direction_of(f, u1, u2); }, p);
     }
+#if SECCHI_HAS_LANES
+    /// cos psi for lanes of uniforms u1 (the lane tracers: lane_sampling.hpp), one visit per
+    /// vector: the held function's own lane sampler where it has one, else its scalar sampler
+    /// lane by lane. The same values as the held type gives in the lanes, bit for bit.
+    template <class Lanes>
+        requires(std::same_as<Lanes, lanes::Reals> || std::same_as<Lanes, lanes::Floats>)
+    Lanes cos_psi(const Lanes& u1) const {
+        return std::visit(
+            [&](const auto& f) -> Lanes {
+                if constexpr (LaneSampled<std::decay_t<decltype(f)>, Lanes>) {
+                    return lane_cos_psi(f, u1);
+                } else {
+                    using T = scalar_t<Lanes>;
+                    alignas(64) T out[Lanes::size()];
+                    for (std::size_t l = 0; l < Lanes::size(); ++l)
+                        out[l] = static_cast<T>(sample_direction_of(f, static_cast<double>(u1[l]), 0.0).cos_psi);
+                    return Lanes(out, lanes::aligned);
+                }
+            },
+            p);
+    }
+#endif
     std::vector<double> breakpoints() const {
         return std::visit([](const auto& f) { return breakpoints_of(f); }, p);
     }
@@ -61,6 +87,9 @@ struct AnyPhaseFunction {
 };
 
 static_assert(PhaseFunction<AnyPhaseFunction>);
+#if SECCHI_HAS_LANES
+static_assert(LanePhaseSampler<AnyPhaseFunction, lanes::Reals> && LanePhaseSampler<AnyPhaseFunction, lanes::Floats>);
+#endif
 static_assert(PhaseFunction<SchlickPhase> && PhaseFunction<RayleighLikePhase> && PhaseFunction<FournierForandPhase>);
 static_assert(PhaseFunction<PhaseMixture<HenyeyGreensteinPhase>> && PhaseFunction<PhaseMixture<SchlickPhase>>);
 
