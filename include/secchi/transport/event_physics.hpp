@@ -213,13 +213,12 @@ ScatteringAngles<Real> mixture_angles(const M& medium, const Real& z, const Real
     using T = scalar_t<Real>;
     constexpr int width = static_cast<int>(Real::size());
     constexpr T below_one = T(1) - std::numeric_limits<T>::epsilon() / 2;
-    alignas(64) T v[width], cos_psi[width], azimuth[width];
+    alignas(64) T v[width], cos_psi[width];
     std::size_t index[width];
     for (int l = 0; l < width; ++l) {
         const auto c = medium.choose(static_cast<double>(z[l]), static_cast<double>(u_psi[l]));
         index[l] = c.index;
         v[l] = std::min(static_cast<T>(c.v), below_one);  // (in floats v may round up to 1)
-        azimuth[l] = static_cast<T>(two_pi) * u_phi[l];
     }
     for (std::size_t i = 0; i < medium.components(); ++i) {
         if (std::none_of(index, index + width, [&](std::size_t k) { return k == i; })) continue;
@@ -231,13 +230,12 @@ ScatteringAngles<Real> mixture_angles(const M& medium, const Real& z, const Real
                     if (index[l] == i) cos_psi[l] = mu[l];
             } else {
                 for (int l = 0; l < width; ++l)
-                    if (index[l] == i) {
+                    if (index[l] == i)
                         cos_psi[l] = static_cast<T>(sample_direction_of(p, static_cast<double>(v[l]), static_cast<double>(u_phi[l])).cos_psi);
-                    }
             }
         });
     }
-    return {Real(cos_psi, lanes::aligned), Real(azimuth, lanes::aligned)};
+    return {Real(cos_psi, lanes::aligned), static_cast<T>(two_pi) * u_phi};
 }
 #endif
 
