@@ -301,6 +301,61 @@ TEST_CASE("Henyey-Greenstein's inverse CDF in float lanes is within float roundi
     CHECK(worst <= bound);
 }
 
+// Rayleigh's inverse CDF (Cardano's root) in lanes takes its cube root from a cubic guess and
+// Halley's steps (rayleigh.hpp) instead of std::cbrt. Uniforms over (0, 1), packed near both
+// ends and around u = 1/2 (mu = 0), and u = 1 itself.
+static std::vector<double> rayleigh_uniforms() {
+    auto u = uniforms(4096, 3);
+    for (int k = 1; k <= 40; ++k) {
+        const double e = std::ldexp(1.0, -k);
+        for (double x : {e, 1.0 - e, 0.5 - e / 4, 0.5 + e / 4}) u.push_back(x);
+    }
+    u.push_back(0.5);
+    u.push_back(1.0);
+    while (u.size() % 16 != 0) u.push_back(0.25);
+    return u;
+}
+
+// Doubles: A within 5.6e-16 relative of the cube root (two Halley steps), and mu = A - 1/A
+// moves by (A + 1/A) times that, A + 1/A <= sqrt 5 (A <= the golden ratio): 1.3e-15, with
+// std::cbrt's own rounding and that of the subtraction 2e-15.
+TEST_CASE("Rayleigh's inverse CDF in lanes is sample_direction's, to 2e-15") {
+    const RayleighPhase rayleigh;
+    const auto u = rayleigh_uniforms();
+    double worst = 0;
+    for (std::size_t i = 0; i < u.size(); i += lane_width) {
+        const Reals cos_psi = rayleigh.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
+        for (int l = 0; l < lane_width; ++l) {
+            const double mu = rayleigh.sample_direction(u[i + l], 0.5).cos_psi;
+            REQUIRE(std::abs(cos_psi[l]) <= 1.0);
+            worst = std::max(worst, std::abs(cos_psi[l] - mu));
+        }
+    }
+    INFO("worst " << worst);
+    CHECK(worst <= 2e-15);
+}
+
+// Floats: q = 8 u - 4 rounds by 4 u_f (half an ulp of 4) and moves mu by a third of it; the
+// argument of the cube root by about 3 u_f, a third of it in A; the guess leaves 0.6 u_f
+// after one Halley step, whose own operations add about 4 u_f: A within about 6 u_f, mu within
+// sqrt 5 times that plus the last two roundings: 20 u_f.
+TEST_CASE("Rayleigh's inverse CDF in float lanes is within float rounding of the double's") {
+    const RayleighPhase rayleigh;
+    const auto u = rayleigh_uniforms();
+    double worst = 0;
+    for (std::size_t i = 0; i < u.size(); i += float_width) {
+        alignas(64) float v[lanes::width_of<float>];
+        for (int l = 0; l < float_width; ++l) v[l] = static_cast<float>(u[i + l]);
+        const Floats cos_psi = rayleigh.cos_psi(Floats(v, lanes::aligned));
+        for (int l = 0; l < float_width; ++l) {
+            REQUIRE(std::abs(cos_psi[l]) <= 1.0f);
+            worst = std::max(worst, std::abs(double(cos_psi[l]) - rayleigh.cos_psi(double(v[l]))));
+        }
+    }
+    INFO("worst " << worst);
+    CHECK(worst <= 20 * float_unit);
+}
+
 TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in lanes") {
     const HenyeyGreensteinPhase hg(0.9);
     const Slab slab(1.0, Bottom{}, 10.0);
