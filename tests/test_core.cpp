@@ -5,7 +5,9 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/core/units.hpp"
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 using namespace secchi;
@@ -127,6 +129,18 @@ TEST_CASE("exp_table is within 2 ulp of the correctly rounded exponential") {
     REQUIRE(exp_table(-800.0) == 0.0);
     REQUIRE(exp_table(800.0) == INFINITY);
     REQUIRE(std::isnan(exp_table(NAN)));
+}
+
+TEST_CASE("times_power_of_two(x, k) is ldexp(x, k) bit for bit") {
+    for (int k = -1100; k <= 1100; ++k) REQUIRE(times_power_of_two(1.0, k) == std::ldexp(1.0, k));
+    PhotonRng rng(11, 5);
+    for (int i = 0; i < 100'000; ++i) {
+        // Weights over many decades (down to subnormal products) and the levels' range and beyond.
+        const double x = rng.uniform() * std::ldexp(1.0, static_cast<int>(-1000 * rng.uniform()));
+        const int k = static_cast<int>(2200 * rng.uniform()) - 1100;
+        const double a = times_power_of_two(x, k), b = std::ldexp(x, k);
+        REQUIRE(std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b));
+    }
 }
 
 TEST_CASE("batch estimate") {

@@ -281,16 +281,15 @@ TEST_CASE("depth importance: the level of random depths is the formula's, in lay
                 if (++mismatches <= 5) FAIL_CHECK(name << ": z = " << z << " level " << levels.level(z) << ", formula " << expected);
             }
             // span(z): z inside it, the same level at its ends and at a random depth inside; and
-            // the same span found by stepping from any other (index_of).
+            // the same span by its index (index_of, as the lanes keep it).
             const auto span = levels.span(z);
-            const auto hint = static_cast<std::uint32_t>(gen() % (levels.span_count() + 2));
-            const auto stepped = levels.span_at(levels.index_of(z, hint));
+            const auto indexed = levels.span_at(levels.index_of(z));
             const double last = std::nextafter(span.hi, -INFINITY);
             const double inside = std::isfinite(span.lo) && std::isfinite(span.hi)
                                       ? std::min(last, span.lo + (span.hi - span.lo) * std::generate_canonical<double, 53>(gen))
                                       : z;
             const bool span_right = span.lo <= z && z < span.hi && span.level == expected &&
-                                    stepped.lo == span.lo && stepped.hi == span.hi && stepped.level == span.level &&
+                                    indexed.lo == span.lo && indexed.hi == span.hi && indexed.level == span.level &&
                                     span.factor == std::ldexp(1.0, expected) && levels.level(inside) == expected &&
                                     (!std::isfinite(span.lo) || levels.level(span.lo) == expected) &&
                                     (!std::isfinite(span.hi) || levels.level(last) == expected);

@@ -41,6 +41,14 @@ SECCHI_KERNEL double mul_add(double a, double b, double c) {
 #endif
 }
 
+/// x 2^k, exactly std::ldexp(x, k) (its one rounding of x 2^k): x times 2^k made from its bits
+/// where 2^k is a normal double (-1022 <= k <= 1023), without the library call (depth
+/// importance's weights and levels, per event); through ldexp beyond.
+inline double times_power_of_two(double x, int k) {
+    if (k < -1022 || k > 1023) return std::ldexp(x, k);
+    return x * std::bit_cast<double>(static_cast<std::uint64_t>(k + 1023) << 52);
+}
+
 /// a where m holds, else b: `m ? a : b`, for code written once for doubles and for SIMD
 /// vectors of them (std::experimental::simd, core/lanes.hpp), where it is where(m, b) = a.
 template <class Mask, class T>

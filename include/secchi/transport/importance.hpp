@@ -281,13 +281,10 @@ public:
     };
     [[nodiscard]] Span span(double z) const { return span_at(enabled_ ? interval(z) : 0); }
 
-    /// The spans by index, from the shallowest (index 0) down: index_of(z, hint) is z's,
-    /// found by stepping from the index `hint` (cheap when z lies in or next to it),
-    /// span_at(j) the span itself, and span_count() how many there are.
+    /// The spans by index, from the shallowest (index 0) down: index_of(z) is z's (through
+    /// the guide, as span(z)), span_at(j) the span itself, and span_count() how many there are.
     [[nodiscard]] std::uint32_t span_count() const { return enabled_ ? count_ + 1 : 1; }
-    [[nodiscard]] std::uint32_t index_of(double z, std::uint32_t hint) const {
-        return enabled_ ? exact_interval(z, std::min(hint, count_)) : 0;
-    }
+    [[nodiscard]] std::uint32_t index_of(double z) const { return enabled_ ? interval(z) : 0; }
     [[nodiscard]] Span span_at(std::uint32_t j) const {
         constexpr double inf = std::numeric_limits<double>::infinity();
         if (!enabled_) return {-inf, inf, 0, 1.0};

@@ -230,7 +230,6 @@ private:
         /// The depths [span_lo, span_hi) where the level is span_level and I(z) span_factor
         /// (ImportanceLevels::span narrowed by span_margin: inner_span, importance.hpp).
         alignas(64) Real span_lo[width], span_hi[width], span_level[width], span_factor[width];
-        std::uint32_t span_index[width];     ///< the span's index (ImportanceLevels::index_of)
         std::vector<std::array<Reals, 4>> tally;  ///< per depth, per lane (summed at the end)
         std::vector<Copy> copies;            ///< split-off photons waiting for a lane (taken last first)
     };
@@ -342,7 +341,7 @@ private:
         }
         if (level != L.level[l] || L.level_scale[l] == Real(0)) {  // (0: a lane's first photon)
             L.level[l] = level;
-            L.level_scale[l] = static_cast<Real>(std::ldexp(1.0, p.level));
+            L.level_scale[l] = static_cast<Real>(times_power_of_two(1.0, p.level));
         }
         if (!(L.z[l] >= L.span_lo[l] && L.z[l] < L.span_hi[l])) look_up_span(L, l);
     }
@@ -367,11 +366,9 @@ private:
         return spans;
     }
 
-    /// Lane l's span from its depth, stepping from the span it held.
+    /// Lane l's span from its depth (ImportanceLevels::index_of: the levels' guide).
     [[gnu::noinline]] void look_up_span(Lanes& L, int l) const {
-        const std::uint32_t j = this->levels_.index_of(static_cast<double>(L.z[l]), L.span_index[l]);
-        const LaneSpan& span = spans_[j];
-        L.span_index[l] = j;
+        const LaneSpan& span = spans_[this->levels_.index_of(static_cast<double>(L.z[l]))];
         L.span_lo[l] = span.lo;
         L.span_hi[l] = span.hi;
         L.span_level[l] = span.level;

@@ -460,12 +460,12 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
                       // left below its level splits again at its next step, or stores copies)
             const int split = std::min(k, 20);
             p.level += split;
-            p.w = std::ldexp(p.w, -split);
+            p.w = times_power_of_two(p.w, -split);
             for (int i = 1; i < (1 << split); ++i) pending.push_back(p);
             return true;
         }
         p.level += k;
-        const double ratio = std::ldexp(1.0, k);  // I_new / I_old < 1
+        const double ratio = times_power_of_two(1.0, k);  // I_new / I_old < 1
         if (rng.uniform() < ratio) {  // survive with probability 2^k (k < 0), weight / 2^k
             ledger.roulette_gained += p.w / ratio - p.w;
             p.w /= ratio;
@@ -697,7 +697,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
             // Only for a photon whose weight relative to its level is at most 1, so that no
             // weight exceeds 1 / (1 - eps) there (importance.hpp: the mixture's weights would
             // otherwise compound over many scatterings).
-            if (upward_.enabled() && std::ldexp(p.w, p.level) <= 1.0) {
+            if (upward_.enabled() && times_power_of_two(p.w, p.level) <= 1.0) {
                 scatter_upward(p, rng, u_psi, u_phi, out.ledger);
                 return roulette(p, rng, out.ledger);
             }
@@ -793,8 +793,7 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// Russian roulette on the photon's weight (its cumulative survival probability),
     /// relative to its importance level (w I: the weight an unsplit photon would have).
     bool roulette(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger) const {
-        // (level 0, the only one without depth importance, spares the call to ldexp)
-        if (!physics_.roulette_due(p.level == 0 ? p.w : std::ldexp(p.w, p.level))) return true;
+        if (!physics_.roulette_due(times_power_of_two(p.w, p.level))) return true;
         if (rng.uniform() < s_.roulette_survival) {
             const double w = p.w / s_.roulette_survival;
             ledger.roulette_gained += w - p.w;
