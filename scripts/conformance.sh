@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: Mobley et al. 1993 canonical problems 1a, 1b, 2a, 2b, 3, 4, 5 and 6 with each photon
 # store (the k-d tree with spheres, the VOI octree and the VOI grid with the cylinder), at the
-# default (full) photon budgets, problems 1a, 2a, 3, 4, 5 and 6 once more traced in float lanes (VOI grid,
+# default (full) photon budgets, every problem once more traced in float lanes (VOI grid,
 # conformance_voi-grid_lanes-float.json), and problem 3 once more from its material file
 # (examples/materials/canonical_problem3.mat). Writes conformance_kdtree.json,
 # conformance_voi.json, conformance_voi-grid.json, conformance_3_material.json, the problem-2a
@@ -28,10 +28,8 @@ for store in kdtree voi voi-grid; do
   build/conformance/canonical --problem all --store "$store" --seed 1 --threads "$(nproc)" \
     --json "$out/conformance_$store.json" --exr "$out/photon_map_2a.exr" || status=1
 done
-# Problems 1a, 2a, 3, 4, 5 and 6 once more with photons in float lanes (LaneTracer<..., float>), in
-# the VOI grid. 2b (backscatter bias) is left to PhotonTracer's run above; 1b would run in the lanes,
-# but slower than with PhotonTracer (docs/design-notes.md, "Depth importance in the lanes").
-build/conformance/canonical --problem 1a,2a,3,4,5,6 --tracer lanes-float --store voi-grid --seed 1 \
+# Every problem once more with photons in float lanes (LaneTracer<..., float>), in the VOI grid.
+build/conformance/canonical --problem 1a,1b,2a,2b,3,4,5,6 --tracer lanes-float --store voi-grid --seed 1 \
   --threads "$(nproc)" --json "$out/conformance_voi-grid_lanes-float.json" \
   --exr "$out/photon_map_2a_lanes-float.exr" || status=1
 build/conformance/canonical --problem 3 --material examples/materials/canonical_problem3.mat --store voi \
