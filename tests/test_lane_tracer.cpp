@@ -9,6 +9,7 @@
 #include "secchi/optics/phase/henyey_greenstein.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
+#include "secchi/optics/phase/rayleigh_like.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/solver/phase_choice.hpp"
@@ -354,6 +355,39 @@ TEST_CASE("Rayleigh's inverse CDF in float lanes is within float rounding of the
     }
     INFO("worst " << worst);
     CHECK(worst <= 20 * float_unit);
+}
+
+// Rayleigh-like functions (pure water, k2 = 0.835, and beyond): the root's Newton steps in
+// lanes, each lane stopping where its own root stops. Double lanes give sample_direction's root
+// (4e-16 allowed for a build that fuses multiply-adds differently in the two); float lanes stop
+// at a root in float: the residual's rounding, about 8 u_f of mu (k2 mu^2 + 3), over
+// h' = 3 (1 + k2 mu^2), plus the result's own rounding.
+TEST_CASE("Rayleigh-like inverse CDFs in lanes are sample_direction's, to rounding") {
+    const auto u = rayleigh_uniforms();
+    for (double k2 : {0.835, 1.0, 0.0, -0.5, -0.99, 5.0, 1e4}) {
+        const RayleighLikePhase r(k2);
+        INFO("k2 = " << k2);
+        double worst = 0, worst_float = 0;  // the float lanes' error as a share of its bound
+        for (std::size_t i = 0; i < u.size(); i += lane_width) {
+            const Reals cos_psi = r.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
+            for (int l = 0; l < lane_width; ++l)
+                worst = std::max(worst, std::abs(cos_psi[l] - r.sample_direction(u[i + l], 0.5).cos_psi));
+        }
+        for (std::size_t i = 0; i < u.size(); i += float_width) {
+            alignas(64) float v[lanes::width_of<float>];
+            for (int l = 0; l < float_width; ++l) v[l] = static_cast<float>(u[i + l]);
+            const Floats cos_psi = r.cos_psi(Floats(v, lanes::aligned));
+            for (int l = 0; l < float_width; ++l) {
+                const double mu = r.cos_psi(double(v[l]));
+                const double bound =
+                    8 * float_unit * (std::abs(mu) * (k2 * mu * mu + 3) / (3 * (1 + k2 * mu * mu)) + 1);
+                worst_float = std::max(worst_float, std::abs(double(cos_psi[l]) - mu) / bound);
+            }
+        }
+        INFO("worst " << worst << ", float lanes " << worst_float << " of their bound");
+        CHECK(worst <= 4e-16);
+        CHECK(worst_float <= 1.0);
+    }
 }
 
 TEST_CASE("Henyey-Greenstein's inverse CDF and the slab's wrap are the same in lanes") {

@@ -45,9 +45,17 @@ public:
         return {d.cos_psi, d.phi, pdf(d.cos_psi)};
     }
     /// The direction of sample(u1, u2) without its density (what transport needs).
-    PhaseDirection sample_direction(double u1, double u2) const {
-        const double q = (2.0 * u1 - 1.0) * (3.0 + k2_);
-        return {std::copysign(solve_cubic(std::abs(q)), q), two_pi * u2};
+    PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
+
+    /// The inverse CDF above, for a double or for a SIMD vector of doubles or floats (photons
+    /// in lanes, transport/lane_tracer.hpp): the same Newton steps, each lane stopping where
+    /// its own root stops.
+    template <class Real>
+    Real cos_psi(Real u1) const {
+        using std::abs;
+        using T = scalar_t<Real>;
+        const Real q = (T(2) * u1 - T(1)) * T(3.0 + k2_);
+        return unit_with_sign_of(q) * solve_cubic(abs(q));  // std::copysign(root, q): the root is >= 0
     }
 
     double k1() const { return k1_; }
@@ -63,15 +71,21 @@ private:
     /// The root mu in [0, 1] of h(mu) = k2 mu^3 + 3 mu - aq (0 <= aq <= 3 + k2). h is
     /// increasing there (h' = 3 (1 + k2 mu^2) > 0 for k2 > -1), convex for k2 >= 0 and concave
     /// for k2 < 0, so Newton from mu = 1 (resp. 0) converges monotonically without overshoot;
-    /// it stops when rounding ends the monotone progress.
-    double solve_cubic(double aq) const {
+    /// it stops when rounding ends the monotone progress (in lanes: each lane where its own
+    /// progress ends, the loop when every lane's has).
+    template <class Real>
+    Real solve_cubic(const Real& aq) const {
+        using std::max, std::min;
+        using T = scalar_t<Real>;
         const bool convex = k2_ >= 0.0;
-        double mu = convex ? 1.0 : 0.0;
+        const T k2 = static_cast<T>(k2_);
+        Real mu(convex ? T(1) : T(0));
         for (int iter = 0; iter < 200; ++iter) {
-            const double h = (k2_ * mu * mu + 3.0) * mu - aq, dh = 3.0 * (1.0 + k2_ * mu * mu);
-            const double next = std::clamp(mu - h / dh, 0.0, 1.0);
-            if (convex ? next >= mu : next <= mu) break;
-            mu = next;
+            const Real h = (k2 * mu * mu + T(3)) * mu - aq, dh = T(3) * (T(1) + k2 * mu * mu);
+            const Real next = min(max(mu - h / dh, Real(T(0))), Real(T(1)));  // std::clamp(., 0, 1)
+            const auto progress = convex ? next < mu : next > mu;
+            if (!any_lane(progress)) break;
+            mu = select(progress, next, mu);
         }
         return mu;
     }
