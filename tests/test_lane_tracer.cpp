@@ -7,9 +7,11 @@
 #include "secchi/optics/phase/any_phase.hpp"
 #include "secchi/optics/phase/fournier_forand.hpp"
 #include "secchi/optics/phase/henyey_greenstein.hpp"
+#include "secchi/optics/phase/isotropic.hpp"
 #include "secchi/optics/phase/petzold.hpp"
 #include "secchi/optics/phase/rayleigh.hpp"
 #include "secchi/optics/phase/rayleigh_like.hpp"
+#include "secchi/optics/phase/schlick.hpp"
 #include "secchi/optics/stratified_water.hpp"
 #include "secchi/scene/wind_blown_surface.hpp"
 #include "secchi/solver/phase_choice.hpp"
@@ -386,6 +388,62 @@ TEST_CASE("Rayleigh-like inverse CDFs in lanes are sample_direction's, to roundi
         }
         INFO("worst " << worst << ", float lanes " << worst_float << " of their bound");
         CHECK(worst <= 4e-16);
+        CHECK(worst_float <= 1.0);
+    }
+}
+
+// Isotropic, mu = 2 u - 1: double lanes exact (2 u exact, one rounding), float lanes within
+// the float's rounding of the double mu (u_f at most; exact where u is a multiple of 2^-24).
+TEST_CASE("The isotropic inverse CDF in lanes is sample_direction's") {
+    const IsotropicPhase iso;
+    const auto u = rayleigh_uniforms();
+    for (std::size_t i = 0; i < u.size(); i += lane_width) {
+        const Reals cos_psi = iso.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
+        for (int l = 0; l < lane_width; ++l) REQUIRE(cos_psi[l] == iso.sample_direction(u[i + l], 0.5).cos_psi);
+    }
+    double worst = 0;
+    for (std::size_t i = 0; i < u.size(); i += float_width) {
+        const Floats v = lanes_of<Floats>([&](int l) { return u[i + l]; });
+        const Floats cos_psi = iso.cos_psi(v);
+        for (int l = 0; l < float_width; ++l) worst = std::max(worst, std::abs(double(cos_psi[l]) - (2.0 * v[l] - 1.0)));
+    }
+    INFO("worst " << worst);
+    CHECK(worst <= float_unit);
+}
+
+// Schlick, mu = (s + k) / (1 + k s), s = 2 u - 1: to first order in the unit roundoff u, s
+// and k (in floats) round by u each, s + k by u |s + k|, k s by u |k s| and 1 + k s by u (1 +
+// k s), the quotient by u |mu|: |d mu| <= u (3 |mu| + (2 + 3 |mu|) / (1 + k s)), and 1 + k s
+// >= 1 - |k|. Double lanes: the same operations as sample_direction (a build may fuse k s + 1
+// in one and not the other), within that bound in double's u; float lanes within it in u_f.
+TEST_CASE("Schlick's inverse CDF in lanes is sample_direction's, to rounding") {
+    const auto u = rayleigh_uniforms();
+    const auto bound = [](double unit, double k, double mu) {
+        return unit * (3 * std::abs(mu) + (2 + 3 * std::abs(mu)) / (1 - std::abs(k)));
+    };
+    for (double k : {0.6, 0.9, 0.99, 0.0, -0.5, -0.95}) {
+        const SchlickPhase schlick(k);
+        INFO("k = " << k);
+        double worst = 0, worst_float = 0;  // as shares of the bound
+        for (std::size_t i = 0; i < u.size(); i += lane_width) {
+            const Reals cos_psi = schlick.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
+            for (int l = 0; l < lane_width; ++l) {
+                const double mu = schlick.sample_direction(u[i + l], 0.5).cos_psi;
+                REQUIRE(std::abs(cos_psi[l]) <= 1.0);
+                worst = std::max(worst, std::abs(cos_psi[l] - mu) / bound(0x1p-53, k, mu));
+            }
+        }
+        for (std::size_t i = 0; i < u.size(); i += float_width) {
+            const Floats v = lanes_of<Floats>([&](int l) { return u[i + l]; });
+            const Floats cos_psi = schlick.cos_psi(v);
+            for (int l = 0; l < float_width; ++l) {
+                const double mu = schlick.cos_psi(double(v[l]));
+                REQUIRE(std::abs(cos_psi[l]) <= 1.0f);
+                worst_float = std::max(worst_float, std::abs(double(cos_psi[l]) - mu) / bound(float_unit, k, mu));
+            }
+        }
+        INFO("worst " << worst << " (double lanes), " << worst_float << " (float lanes) of the bound");
+        CHECK(worst <= 1.0);
         CHECK(worst_float <= 1.0);
     }
 }

@@ -95,6 +95,15 @@ SECCHI_KERNEL bool any_lane(const Mask& m) {
     else return any_of(m);
 }
 
+/// std::clamp(mu, -1, 1) for a double or for a SIMD vector (a cosine sampled in rounding
+/// arithmetic, kept a cosine).
+template <class Real>
+SECCHI_KERNEL Real clamp_cosine(const Real& mu) {
+    using std::max, std::min;
+    using T = scalar_t<Real>;
+    return min(max(mu, Real(T(-1))), Real(T(1)));
+}
+
 /// copysign(1, x): +1 or -1 with the sign bit of x (-1 for -0), for a double or a SIMD vector.
 /// Under clang, vectors take signbit and a select, the same values: clang (14) cannot compile
 /// libstdc++ 12's simd copysign (a bit mask it declares constexpr is not a constant expression

@@ -223,16 +223,9 @@ ScatteringAngles<Real> mixture_angles(const M& medium, const Real& z, const Real
     for (std::size_t i = 0; i < medium.components(); ++i) {
         if (std::none_of(index, index + width, [&](std::size_t k) { return k == i; })) continue;
         medium.visit_phase(i, [&](const auto& p) {
-            using P = std::decay_t<decltype(p)>;
-            if constexpr (LaneSampled<P, Real>) {
-                const Real mu = lane_cos_psi(p, Real(v, lanes::aligned));
-                for (int l = 0; l < width; ++l)
-                    if (index[l] == i) cos_psi[l] = mu[l];
-            } else {
-                for (int l = 0; l < width; ++l)
-                    if (index[l] == i)
-                        cos_psi[l] = static_cast<T>(sample_direction_of(p, static_cast<double>(v[l]), static_cast<double>(u_phi[l])).cos_psi);
-            }
+            const Real mu = cos_psi_in_lanes(p, Real(v, lanes::aligned), [&](std::size_t l) { return index[l] == i; });
+            for (int l = 0; l < width; ++l)
+                if (index[l] == i) cos_psi[l] = mu[l];
         });
     }
     return {Real(cos_psi, lanes::aligned), static_cast<T>(two_pi) * u_phi};

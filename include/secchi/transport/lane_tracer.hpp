@@ -395,16 +395,22 @@ private:
     /// Depth importance at the start of a step (PhotonTracer::follow's change_level): every
     /// lane whose depth lies at another level than its photon's is split (the copies queued)
     /// or rouletted; a lane whose photon ends takes the next, which is checked in turn; lanes
-    /// left without a photon take queued copies.
+    /// left without a photon take queued copies. A lane's depth level is its span's (looked up
+    /// first where the depth has left it), or computed where the depth lies within span_margin
+    /// of a bound.
     [[gnu::noinline]] void change_levels(Lanes& L, Launches& next, std::uint64_t end,
                                          detail::BlockResult<Record>& out) const {
         std::vector<PhotonState> split;
         for (Mask check = Mask(L.alive, aligned); any_of(check);) {
-            const Mask moved = check && Mask(L.alive, aligned) && !(in_span(L) && Reals(L.span_level, aligned) == Reals(L.level, aligned));
+            check = check && Mask(L.alive, aligned);
+            lanes::for_each(check && !in_span(L), [&](int l) { look_up_span(L, l); });
+            const Mask spanned = in_span(L);
+            const Mask moved = check && !(spanned && Reals(L.span_level, aligned) == Reals(L.level, aligned));
             check = Mask(false);
             lanes::for_each(moved, [&](int l) {
                 per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
-                    return this->change_level(p, rng, out.ledger, split);
+                    const int level = spanned[l] ? static_cast<int>(L.span_level[l]) : this->levels_.level(p.pos.z);
+                    return this->change_level_to(level, p, rng, out.ledger, split);
                 });
                 for (std::size_t i = 0; i < split.size(); ++i)
                     L.copies.push_back({split[i], L.photon[l], split_block(L.block[l], i + 1), L.stores[l], L.batch[l]});

@@ -454,7 +454,12 @@ protected:  // the per-event physics, shared with LaneTracer (lane_tracer.hpp)
     /// Splitting (deeper level) or Russian roulette (shallower level) to the photon's
     /// current depth-importance level. False if the photon is killed.
     bool change_level(PhotonState& p, PhotonRng& rng, EnergyLedger& ledger, std::vector<PhotonState>& pending) const {
-        const int k = levels_.level(p.pos.z) - p.level;
+        return change_level_to(levels_.level(p.pos.z), p, rng, ledger, pending);
+    }
+    /// change_level where the caller knows the level of the photon's depth.
+    bool change_level_to(int level, PhotonState& p, PhotonRng& rng, EnergyLedger& ledger,
+                         std::vector<PhotonState>& pending) const {
+        const int k = level - p.level;
         if (k == 0) return true;
         if (k > 0) {  // split into 2^k photons of weight w / 2^k (at most 2^20 at once: a photon
                       // left below its level splits again at its next step, or stores copies)

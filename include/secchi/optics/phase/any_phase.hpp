@@ -53,19 +53,7 @@ struct AnyPhaseFunction {
     template <class Lanes>
         requires(std::same_as<Lanes, lanes::Reals> || std::same_as<Lanes, lanes::Floats>)
     Lanes cos_psi(const Lanes& u1) const {
-        return std::visit(
-            [&](const auto& f) -> Lanes {
-                if constexpr (LaneSampled<std::decay_t<decltype(f)>, Lanes>) {
-                    return lane_cos_psi(f, u1);
-                } else {
-                    using T = scalar_t<Lanes>;
-                    alignas(64) T out[Lanes::size()];
-                    for (std::size_t l = 0; l < Lanes::size(); ++l)
-                        out[l] = static_cast<T>(sample_direction_of(f, static_cast<double>(u1[l]), 0.0).cos_psi);
-                    return Lanes(out, lanes::aligned);
-                }
-            },
-            p);
+        return std::visit([&](const auto& f) { return cos_psi_in_lanes(f, u1); }, p);
     }
 #endif
     std::vector<double> breakpoints() const {

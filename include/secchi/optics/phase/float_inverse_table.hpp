@@ -100,7 +100,7 @@ public:
 
     /// cos psi for a vector of float uniforms u in [0, 1] (usable() only).
     [[nodiscard]] SECCHI_KERNEL lanes::Floats cos_psi(const lanes::Floats& u) const {
-        using lanes::Floats, lanes::stdx::max, lanes::stdx::min;
+        using lanes::Floats, lanes::stdx::max;
         using Words32 = lanes::stdx::rebind_simd_t<std::uint32_t, Floats>;
         constexpr int width = static_cast<int>(Floats::size());
         const auto backward = u > 0.5f;
@@ -118,7 +118,7 @@ public:
         }
         const Floats mu = Floats(c0, lanes::aligned) +
                           t * (Floats(a1, lanes::aligned) + t * (Floats(a2, lanes::aligned) + t * Floats(a3, lanes::aligned)));
-        return min(max(mu, Floats(-1.0f)), Floats(1.0f));
+        return clamp_cosine(mu);
     }
 
 private:

@@ -13,7 +13,7 @@
 
 namespace secchi::SECCHI_ISA {
 
-class HenyeyGreensteinPhase {
+class HenyeyGreensteinPhase : public SampledByDirection<HenyeyGreensteinPhase> {
 public:
     explicit HenyeyGreensteinPhase(double g) : g_(g) {
         require(std::abs(g) < 1.0, "g", g, "the Henyey-Greenstein asymmetry parameter needs |g| < 1");
@@ -33,24 +33,19 @@ public:
     /// is, after expanding and cancelling the factor g analytically,
     /// mu = (s + g (3 + s^2)/2 + g^2 s + g^3 (s^2 - 1)/2) / (1 + g s)^2,
     /// which has no 0/0 as g -> 0 (it gives mu = s, isotropic) and gives mu = +-1 at s = +-1.
-    PhaseSample sample(double u1, double u2) const {
-        const PhaseDirection d = sample_direction(u1, u2);
-        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
-    }
-    /// The direction of sample(u1, u2) without its density (what transport needs).
+    /// The direction alone (what transport needs; sample(u1, u2), SampledByDirection, adds its density).
     PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
 
     /// The inverse CDF above, for a double or for a SIMD vector of doubles or floats (photons
     /// in lanes, transport/lane_tracer.hpp): the same operations in the same order.
     template <class Real>
     Real cos_psi(Real u1) const {
-        using std::max, std::min;
         using T = scalar_t<Real>;
         const Real s = T(2) * u1 - T(1);
         const T g = T(g_);
         const Real num = s + T(0.5) * g * (T(3) + s * s) + g * g * s + T(0.5) * g * g * g * (s * s - T(1));
         const Real den = (T(1) + g * s) * (T(1) + g * s);
-        return min(max(num / den, Real(T(-1))), Real(T(1)));  // std::clamp(num / den, -1, 1)
+        return clamp_cosine(num / den);
     }
 
     /// The uniforms u1 whose cos_psi is negative (backward): [0, u_0), u_0 = P(mu < 0) =

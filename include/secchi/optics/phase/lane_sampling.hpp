@@ -6,7 +6,9 @@
 #include "secchi/core/config.hpp"
 #include "secchi/core/lanes.hpp"
 #include "secchi/core/math.hpp"
+#include "secchi/optics/phase/phase_function.hpp"
 #include <concepts>
+#include <cstddef>
 #include <type_traits>
 
 #if SECCHI_HAS_LANES
@@ -33,6 +35,27 @@ SECCHI_KERNEL Real lane_cos_psi(const P& p, const Real& u) {
         return p.cos_psi(u);
     } else {
         return lanes::through_doubles(u, [&](const lanes::Reals& v) { return p.cos_psi(v); });
+    }
+}
+
+/// Every lane: the phase function samples each lane.
+struct EveryLane {
+    constexpr bool operator()(std::size_t) const { return true; }
+};
+
+/// cos psi of any phase function p for each lane's uniform u: in the vectors where p is
+/// LaneSampled (lane_cos_psi), else its scalar sampler's (sample_direction(u, u2).cos_psi, the
+/// same for every u2) lane by lane, in the lanes l where wanted(l) (the others hold 0).
+template <class P, class Real, class Wanted = EveryLane>
+Real cos_psi_in_lanes(const P& p, const Real& u, Wanted wanted = {}) {
+    if constexpr (LaneSampled<P, Real>) {
+        return lane_cos_psi(p, u);
+    } else {
+        using T = scalar_t<Real>;
+        alignas(64) T out[Real::size()] = {};
+        for (std::size_t l = 0; l < Real::size(); ++l)
+            if (wanted(l)) out[l] = static_cast<T>(sample_direction_of(p, static_cast<double>(u[l]), 0.0).cos_psi);
+        return Real(out, lanes::aligned);
     }
 }
 

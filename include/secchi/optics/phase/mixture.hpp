@@ -23,7 +23,7 @@
 namespace secchi::SECCHI_ISA {
 
 template <PhaseFunction P>
-class PhaseMixture {
+class PhaseMixture : public SampledByDirection<PhaseMixture<P>> {
 public:
     /// weights: one per component, >= 0 and finite, not all 0 (any scale).
     PhaseMixture(std::vector<P> components, std::vector<double> weights)
@@ -64,11 +64,7 @@ public:
     /// Component i with cum_i <= u1 < cum_{i+1} (zero-weight components have empty
     /// intervals), then that component sampled with (u1 - cum_i) / w_i and u2; the density
     /// is the mixture's.
-    PhaseSample sample(double u1, double u2) const {
-        const PhaseDirection d = sample_direction(u1, u2);
-        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
-    }
-    /// The direction of sample(u1, u2) without its density (what transport needs): the
+    /// The direction alone (what transport needs; sample(u1, u2), SampledByDirection, adds its density): the
     /// chosen component's direction, itself without density where the component can skip it.
     PhaseDirection sample_direction(double u1, double u2) const {
         const auto it = std::upper_bound(cum_.begin() + 1, cum_.end() - 1, u1);

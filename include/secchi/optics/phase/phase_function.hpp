@@ -51,6 +51,17 @@ concept HasDirectionSampler = requires(const P p, double u1, double u2) {
     { p.sample_direction(u1, u2) } -> std::same_as<PhaseDirection>;
 };
 
+/// sample(u1, u2) of a phase function P from its own sample_direction(u1, u2) and pdf(mu): the
+/// direction and the density of that direction. P derives from SampledByDirection<P> (CRTP).
+template <class P>
+struct SampledByDirection {
+    PhaseSample sample(double u1, double u2) const {
+        const P& p = static_cast<const P&>(*this);
+        const PhaseDirection d = p.sample_direction(u1, u2);
+        return {d.cos_psi, d.phi, p.pdf(d.cos_psi)};
+    }
+};
+
 template <class P>
 PhaseDirection sample_direction_of(const P& p, double u1, double u2) {
     if constexpr (HasDirectionSampler<P>) {

@@ -11,7 +11,7 @@
 
 namespace secchi::SECCHI_ISA {
 
-class RayleighPhase {
+class RayleighPhase : public SampledByDirection<RayleighPhase> {
 public:
     double eval(double cos_psi) const { return 3.0 / (16.0 * pi) * (1.0 + cos_psi * cos_psi); }
     double pdf(double cos_psi) const { return eval(cos_psi); }
@@ -20,23 +20,19 @@ public:
     /// mu^3 + 3 mu - q = 0 with q = 8u - 4, whose one real root is (Cardano)
     /// mu = A - 1/A, A = cbrt(q/2 + sqrt(q^2/4 + 1)). The root is odd in q: solving for |q|
     /// avoids the cancellation in q/2 + sqrt(...) for q near -4.
-    PhaseSample sample(double u1, double u2) const {
-        const PhaseDirection d = sample_direction(u1, u2);
-        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
-    }
-    /// The direction of sample(u1, u2) without its density (what transport needs).
+    /// The direction alone (what transport needs; sample(u1, u2), SampledByDirection, adds its density).
     PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
 
     /// The inverse CDF above, for a double (with std::cbrt) or for a SIMD vector of doubles or
     /// floats (photons in lanes, transport/lane_tracer.hpp; the cube root by cardano_cbrt).
     template <class Real>
     SECCHI_KERNEL Real cos_psi(Real u1) const {
-        using std::abs, std::max, std::min, std::sqrt;
+        using std::abs, std::sqrt;
         using T = scalar_t<Real>;
         const Real q = T(8) * u1 - T(4), aq = abs(q);
         const Real A = cardano_cbrt(T(0.5) * aq + sqrt(T(0.25) * aq * aq + T(1)));
         const Real mu = unit_with_sign_of(q) * (A - T(1) / A);
-        return min(max(mu, Real(T(-1))), Real(T(1)));  // std::clamp(mu, -1, 1)
+        return clamp_cosine(mu);
     }
 
     std::string name() const { return "rayleigh"; }

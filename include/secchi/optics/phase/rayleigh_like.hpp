@@ -18,7 +18,7 @@
 
 namespace secchi::SECCHI_ISA {
 
-class RayleighLikePhase {
+class RayleighLikePhase : public SampledByDirection<RayleighLikePhase> {
 public:
     explicit RayleighLikePhase(double k2) : k2_(k2), k1_(1.0 / (four_pi * (1.0 + k2 / 3.0))) {
         require(std::isfinite(k2) && k2 > -1.0, "k2", k2,
@@ -40,11 +40,7 @@ public:
 
     /// Exact inverse CDF. The CDF in mu, 2 pi k1 ((mu + 1) + k2 (mu^3 + 1)/3) = u, is the
     /// cubic k2 mu^3 + 3 mu = q with q = (2u - 1)(3 + k2), odd in mu and q.
-    PhaseSample sample(double u1, double u2) const {
-        const PhaseDirection d = sample_direction(u1, u2);
-        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
-    }
-    /// The direction of sample(u1, u2) without its density (what transport needs).
+    /// The direction alone (what transport needs; sample(u1, u2), SampledByDirection, adds its density).
     PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
 
     /// The inverse CDF above, for a double or for a SIMD vector of doubles or floats (photons

@@ -18,7 +18,7 @@
 
 namespace secchi::SECCHI_ISA {
 
-class SchlickPhase {
+class SchlickPhase : public SampledByDirection<SchlickPhase> {
 public:
     explicit SchlickPhase(double k) : k_(k) {
         require(std::abs(k) < 1.0, "k", k, "the Schlick parameter needs |k| < 1");
@@ -34,14 +34,17 @@ public:
     /// Exact inverse CDF. The CDF in mu is (1 - k^2)/(2k) (1/(1 - k mu) - 1/(1 + k)) = u;
     /// solved and simplified with s = 2u - 1 it is the Moebius map mu = (s + k) / (1 + k s),
     /// which has no 0/0 as k -> 0 (isotropic, mu = s) and gives mu = +-1 at s = +-1.
-    PhaseSample sample(double u1, double u2) const {
-        const PhaseDirection d = sample_direction(u1, u2);
-        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
-    }
-    /// The direction of sample(u1, u2) without its density (what transport needs).
-    PhaseDirection sample_direction(double u1, double u2) const {
-        const double s = 2.0 * u1 - 1.0;
-        return {std::clamp((s + k_) / (1.0 + k_ * s), -1.0, 1.0), two_pi * u2};
+    /// The direction alone (what transport needs; sample(u1, u2), SampledByDirection, adds its density).
+    PhaseDirection sample_direction(double u1, double u2) const { return {cos_psi(u1), two_pi * u2}; }
+
+    /// The inverse CDF above, for a double or for a SIMD vector of doubles or floats (photons
+    /// in lanes, transport/lane_tracer.hpp): the same operations in the same order.
+    template <class Real>
+    Real cos_psi(Real u1) const {
+        using T = scalar_t<Real>;
+        const Real s = T(2) * u1 - T(1);
+        const T k = T(k_);
+        return clamp_cosine((s + k) / (T(1) + k * s));
     }
 
     /// g = 2 pi int p cos sin dpsi in closed form (series for small |k|, where the closed

@@ -132,7 +132,7 @@ private:
 };
 }  // namespace detail
 
-class TabulatedPhase {
+class TabulatedPhase : public SampledByDirection<TabulatedPhase> {
 public:
     /// angle_deg strictly increasing in [0, 180] (degrees), value > 0 (1/sr, any scale),
     /// at least 2 nodes. power_law_exponent k (< 2) sets p = p_0 (theta_0/psi)^k below the
@@ -189,11 +189,7 @@ public:
     /// u1 picks the segment from the exact cumulative integral and the angle within it by
     /// inverting that segment's CDF; phi = 2 pi u2. The pdf is that of the returned direction,
     /// pdf(cos psi) (at small psi the rounding of cos psi moves the angle by ~1e-16/psi).
-    PhaseSample sample(double u1, double u2) const {
-        const PhaseDirection d = sample_direction(u1, u2);
-        return {d.cos_psi, d.phi, pdf(d.cos_psi)};
-    }
-    /// The direction of sample(u1, u2) without its density (what transport needs).
+    /// The direction alone (what transport needs; sample(u1, u2), SampledByDirection, adds its density).
     PhaseDirection sample_direction(double u1, double u2) const {
         const double target = u1 * raw_;
         double psi;
