@@ -62,6 +62,30 @@ std::vector<double> uniforms(std::size_t n, std::uint64_t stream) {
     return u;
 }
 
+/// The absolute difference: a bound of 1 for worst_in_lanes.
+struct Absolute {
+    double operator()(double) const { return 1.0; }
+};
+
+/// A lane sampler of cosines against its scalar reference: the largest |in_lanes(v)[l] -
+/// reference(v_l)| / bound(reference(v_l)) over the uniforms u taken a vector V at a time, v_l
+/// each lane's uniform as V holds it (rounded to float in float lanes); every lane's value
+/// must be a cosine. u.size() is a multiple of V's width.
+template <class V, class InLanes, class Reference, class Bound = Absolute>
+double worst_in_lanes(const std::vector<double>& u, InLanes&& in_lanes, Reference&& reference, Bound&& bound = {}) {
+    double worst = 0;
+    for (std::size_t i = 0; i < u.size(); i += V::size()) {
+        const V v = lanes_of<V>([&](int l) { return u[i + l]; });
+        const V mu = in_lanes(v);
+        for (std::size_t l = 0; l < V::size(); ++l) {
+            REQUIRE(std::abs(double(mu[l])) <= 1.0);
+            const double exact = reference(double(v[l]));
+            worst = std::max(worst, std::abs(double(mu[l]) - exact) / bound(exact));
+        }
+    }
+    return worst;
+}
+
 /// A unit direction from two uniforms (uniform on the sphere).
 vec3 direction_of(double u1, double u2) {
     const double mu = 2.0 * u1 - 1.0, phi = two_pi * u2, s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
@@ -285,14 +309,8 @@ TEMPLATE_TEST_CASE("Philox uniforms and words in lanes equal PhotonRng's words, 
 
 TEST_CASE("Henyey-Greenstein's inverse CDF in float lanes is within float rounding of the double's") {
     const HenyeyGreensteinPhase hg(0.9);
-    const auto u = uniforms(4096, 2);
-    double worst = 0;
-    for (std::size_t i = 0; i < u.size(); i += float_width) {
-        const Floats v = lanes_of<Floats>([&](int l) { return u[i + l]; });
-        const Floats cos_psi = hg.cos_psi(v);
-        for (int l = 0; l < float_width; ++l)
-            worst = std::max(worst, std::abs(cos_psi[l] - hg.cos_psi(double(v[l]))));
-    }
+    const double worst = worst_in_lanes<Floats>(
+        uniforms(4096, 2), [&](const Floats& v) { return hg.cos_psi(v); }, [&](double v) { return hg.cos_psi(v); });
     INFO("worst " << worst);
     // Near s = -1 num's four terms (sum of magnitudes 1 + 2 g + g^2 + g^3 at most) cancel to
     // -(1 - g)^2 and are divided by den = (1 + g s)^2 >= (1 - g)^2: num's rounding (a few u of
@@ -324,16 +342,9 @@ static std::vector<double> rayleigh_uniforms() {
 // std::cbrt's own rounding and that of the subtraction 2e-15.
 TEST_CASE("Rayleigh's inverse CDF in lanes is sample_direction's, to 2e-15") {
     const RayleighPhase rayleigh;
-    const auto u = rayleigh_uniforms();
-    double worst = 0;
-    for (std::size_t i = 0; i < u.size(); i += lane_width) {
-        const Reals cos_psi = rayleigh.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
-        for (int l = 0; l < lane_width; ++l) {
-            const double mu = rayleigh.sample_direction(u[i + l], 0.5).cos_psi;
-            REQUIRE(std::abs(cos_psi[l]) <= 1.0);
-            worst = std::max(worst, std::abs(cos_psi[l] - mu));
-        }
-    }
+    const double worst = worst_in_lanes<Reals>(
+        rayleigh_uniforms(), [&](const Reals& v) { return rayleigh.cos_psi(v); },
+        [&](double v) { return rayleigh.sample_direction(v, 0.5).cos_psi; });
     INFO("worst " << worst);
     CHECK(worst <= 2e-15);
 }
@@ -344,17 +355,9 @@ TEST_CASE("Rayleigh's inverse CDF in lanes is sample_direction's, to 2e-15") {
 // sqrt 5 times that plus the last two roundings: 20 u_f.
 TEST_CASE("Rayleigh's inverse CDF in float lanes is within float rounding of the double's") {
     const RayleighPhase rayleigh;
-    const auto u = rayleigh_uniforms();
-    double worst = 0;
-    for (std::size_t i = 0; i < u.size(); i += float_width) {
-        alignas(64) float v[lanes::width_of<float>];
-        for (int l = 0; l < float_width; ++l) v[l] = static_cast<float>(u[i + l]);
-        const Floats cos_psi = rayleigh.cos_psi(Floats(v, lanes::aligned));
-        for (int l = 0; l < float_width; ++l) {
-            REQUIRE(std::abs(cos_psi[l]) <= 1.0f);
-            worst = std::max(worst, std::abs(double(cos_psi[l]) - rayleigh.cos_psi(double(v[l]))));
-        }
-    }
+    const double worst = worst_in_lanes<Floats>(
+        rayleigh_uniforms(), [&](const Floats& v) { return rayleigh.cos_psi(v); },
+        [&](double v) { return rayleigh.cos_psi(v); });
     INFO("worst " << worst);
     CHECK(worst <= 20 * float_unit);
 }
@@ -369,23 +372,12 @@ TEST_CASE("Rayleigh-like inverse CDFs in lanes are sample_direction's, to roundi
     for (double k2 : {0.835, 1.0, 0.0, -0.5, -0.99, 5.0, 1e4}) {
         const RayleighLikePhase r(k2);
         INFO("k2 = " << k2);
-        double worst = 0, worst_float = 0;  // the float lanes' error as a share of its bound
-        for (std::size_t i = 0; i < u.size(); i += lane_width) {
-            const Reals cos_psi = r.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
-            for (int l = 0; l < lane_width; ++l)
-                worst = std::max(worst, std::abs(cos_psi[l] - r.sample_direction(u[i + l], 0.5).cos_psi));
-        }
-        for (std::size_t i = 0; i < u.size(); i += float_width) {
-            alignas(64) float v[lanes::width_of<float>];
-            for (int l = 0; l < float_width; ++l) v[l] = static_cast<float>(u[i + l]);
-            const Floats cos_psi = r.cos_psi(Floats(v, lanes::aligned));
-            for (int l = 0; l < float_width; ++l) {
-                const double mu = r.cos_psi(double(v[l]));
-                const double bound =
-                    8 * float_unit * (std::abs(mu) * (k2 * mu * mu + 3) / (3 * (1 + k2 * mu * mu)) + 1);
-                worst_float = std::max(worst_float, std::abs(double(cos_psi[l]) - mu) / bound);
-            }
-        }
+        const double worst = worst_in_lanes<Reals>(
+            u, [&](const Reals& v) { return r.cos_psi(v); }, [&](double v) { return r.sample_direction(v, 0.5).cos_psi; });
+        // the float lanes' error as a share of its bound
+        const double worst_float = worst_in_lanes<Floats>(
+            u, [&](const Floats& v) { return r.cos_psi(v); }, [&](double v) { return r.cos_psi(v); },
+            [&](double mu) { return 8 * float_unit * (std::abs(mu) * (k2 * mu * mu + 3) / (3 * (1 + k2 * mu * mu)) + 1); });
         INFO("worst " << worst << ", float lanes " << worst_float << " of their bound");
         CHECK(worst <= 4e-16);
         CHECK(worst_float <= 1.0);
@@ -397,16 +389,10 @@ TEST_CASE("Rayleigh-like inverse CDFs in lanes are sample_direction's, to roundi
 TEST_CASE("The isotropic inverse CDF in lanes is sample_direction's") {
     const IsotropicPhase iso;
     const auto u = rayleigh_uniforms();
-    for (std::size_t i = 0; i < u.size(); i += lane_width) {
-        const Reals cos_psi = iso.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
-        for (int l = 0; l < lane_width; ++l) REQUIRE(cos_psi[l] == iso.sample_direction(u[i + l], 0.5).cos_psi);
-    }
-    double worst = 0;
-    for (std::size_t i = 0; i < u.size(); i += float_width) {
-        const Floats v = lanes_of<Floats>([&](int l) { return u[i + l]; });
-        const Floats cos_psi = iso.cos_psi(v);
-        for (int l = 0; l < float_width; ++l) worst = std::max(worst, std::abs(double(cos_psi[l]) - (2.0 * v[l] - 1.0)));
-    }
+    CHECK(worst_in_lanes<Reals>(
+              u, [&](const Reals& v) { return iso.cos_psi(v); }, [&](double v) { return iso.sample_direction(v, 0.5).cos_psi; }) == 0.0);
+    const double worst = worst_in_lanes<Floats>(
+        u, [&](const Floats& v) { return iso.cos_psi(v); }, [](double v) { return 2.0 * v - 1.0; });
     INFO("worst " << worst);
     CHECK(worst <= float_unit);
 }
@@ -424,24 +410,13 @@ TEST_CASE("Schlick's inverse CDF in lanes is sample_direction's, to rounding") {
     for (double k : {0.6, 0.9, 0.99, 0.0, -0.5, -0.95}) {
         const SchlickPhase schlick(k);
         INFO("k = " << k);
-        double worst = 0, worst_float = 0;  // as shares of the bound
-        for (std::size_t i = 0; i < u.size(); i += lane_width) {
-            const Reals cos_psi = schlick.cos_psi(lanes_of([&](int l) { return u[i + l]; }));
-            for (int l = 0; l < lane_width; ++l) {
-                const double mu = schlick.sample_direction(u[i + l], 0.5).cos_psi;
-                REQUIRE(std::abs(cos_psi[l]) <= 1.0);
-                worst = std::max(worst, std::abs(cos_psi[l] - mu) / bound(0x1p-53, k, mu));
-            }
-        }
-        for (std::size_t i = 0; i < u.size(); i += float_width) {
-            const Floats v = lanes_of<Floats>([&](int l) { return u[i + l]; });
-            const Floats cos_psi = schlick.cos_psi(v);
-            for (int l = 0; l < float_width; ++l) {
-                const double mu = schlick.cos_psi(double(v[l]));
-                REQUIRE(std::abs(cos_psi[l]) <= 1.0f);
-                worst_float = std::max(worst_float, std::abs(double(cos_psi[l]) - mu) / bound(float_unit, k, mu));
-            }
-        }
+        // as shares of the bound
+        const double worst = worst_in_lanes<Reals>(
+            u, [&](const Reals& v) { return schlick.cos_psi(v); },
+            [&](double v) { return schlick.sample_direction(v, 0.5).cos_psi; }, [&](double mu) { return bound(0x1p-53, k, mu); });
+        const double worst_float = worst_in_lanes<Floats>(
+            u, [&](const Floats& v) { return schlick.cos_psi(v); }, [&](double v) { return schlick.cos_psi(v); },
+            [&](double mu) { return bound(float_unit, k, mu); });
         INFO("worst " << worst << " (double lanes), " << worst_float << " (float lanes) of the bound");
         CHECK(worst <= 1.0);
         CHECK(worst_float <= 1.0);
