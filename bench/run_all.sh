@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs every benchmark and writes BENCHMARKS.md-ready markdown.
 #   bash bench/run_all.sh [BUILD_DIR] [OUT_DIR] [--quick]
-# BUILD_DIR (default build) must hold bench/secchi_bench, search_bench, walk_bench and phase_bench (configured
-# Release); OUT_DIR (default BUILD_DIR/bench-results) receives results.md (the tables, with
+# BUILD_DIR (default build) is a configured Release build; its `benchmarks` target is built
+# first (the benchmarks are not in the default build). OUT_DIR (default BUILD_DIR/bench-results) receives results.md (the tables, with
 # machine, date and commands), secchi_bench.json, scaling.csv and scaling.svg (the log-log
 # plot, drawn by bench/plot_scaling.py with python3's standard library).
 # Benchmarks are never part of the test command; on the 2-core machine the full run takes
@@ -13,6 +13,7 @@ build="${1:-build}"
 out="${2:-$build/bench-results}"
 quick=""
 for a in "$@"; do [[ "$a" == "--quick" ]] && quick="--quick"; done
+cmake --build "$build" --target benchmarks --parallel "$(nproc)"
 mkdir -p "$out"
 md="$out/results.md"
 cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
