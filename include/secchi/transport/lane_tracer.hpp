@@ -397,24 +397,22 @@ private:
     /// or rouletted; a lane whose photon ends takes the next, which is checked in turn; lanes
     /// left without a photon take queued copies. A lane's depth level is its span's (looked up
     /// first where the depth has left it), or computed where the depth lies within span_margin
-    /// of a bound.
+    /// of a bound. The roulettes' uniforms come from the moved lanes' next blocks at once
+    /// (next_words).
     [[gnu::noinline]] void change_levels(Lanes& L, Launches& next, std::uint64_t end,
                                          detail::BlockResult<Record>& out) const {
-        std::vector<PhotonState> split;
+        alignas(64) std::uint32_t word[width];
         for (Mask check = Mask(L.alive, aligned); any_of(check);) {
             check = check && Mask(L.alive, aligned);
             lanes::for_each(check && !in_span(L), [&](int l) { look_up_span(L, l); });
             const Mask spanned = in_span(L);
             const Mask moved = check && !(spanned && Reals(L.span_level, aligned) == Reals(L.level, aligned));
             check = Mask(false);
+            if (none_of(moved)) continue;
+            next_words(L, moved && !(spanned && Reals(L.span_level, aligned) > Reals(L.level, aligned)), word);
             lanes::for_each(moved, [&](int l) {
-                per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) {
-                    const int level = spanned[l] ? static_cast<int>(L.span_level[l]) : this->levels_.level(p.pos.z);
-                    return this->change_level_to(level, p, rng, out.ledger, split);
-                });
-                for (std::size_t i = 0; i < split.size(); ++i)
-                    L.copies.push_back({split[i], L.photon[l], split_block(L.block[l], i + 1), L.stores[l], L.batch[l]});
-                split.clear();
+                const int level = spanned[l] ? static_cast<int>(L.span_level[l]) : this->levels_.level(L.z[l]);
+                change_lane_level(L, l, level, word[l], out.ledger);
                 if (!L.alive[l]) {
                     start(L, l, next, end, out);
                     check[l] = L.alive[l];
@@ -426,6 +424,72 @@ private:
                     start(L, l, next, end, out);
                     check[l] = true;
                 }
+        }
+    }
+
+    /// PhotonTracer::change_level_to on lane l's photon, its uniform (if it needs one: a level
+    /// lower than its photon's) from `word`, the first word of the lane's next block: the
+    /// photon split into 2^k (k = the levels' difference, at most 2^20 at once) of weight
+    /// w / 2^k, the copies queued, or rouletted with survival 2^k (k < 0) and weight w / 2^k.
+    /// PhotonTracer's arithmetic in double, so that the lanes give its bits.
+    void change_lane_level(Lanes& L, int l, int level, std::uint32_t word, EnergyLedger& ledger) const {
+        const int k = level - static_cast<int>(L.level[l]);
+        if (k == 0) return;
+        const double w = static_cast<double>(L.w[l]);
+        if (k > 0) {
+            const int split = std::min(k, 20);
+            set_level(L, l, static_cast<int>(L.level[l]) + split);
+            L.w[l] = static_cast<Real>(times_power_of_two(w, -split));
+            PhotonState copy = photon(L, l);
+            copy.w = times_power_of_two(w, -split);
+            for (std::uint64_t i = 1; i < (std::uint64_t{1} << split); ++i)
+                L.copies.push_back({copy, L.photon[l], split_block(L.block[l], i), L.stores[l], L.batch[l]});
+            return;
+        }
+        set_level(L, l, level);
+        ++L.block[l];  // the uniform's block
+        const double ratio = times_power_of_two(1.0, k);  // I_new / I_old < 1
+        if (uniform_from_bits(word) < ratio) {
+            ledger.roulette_gained += w / ratio - w;
+            L.w[l] = static_cast<Real>(w / ratio);
+        } else {
+            ledger.roulette_killed += w;
+            L.alive[l] = false;
+        }
+    }
+
+    /// Lane l's photon's level and 2^level.
+    static void set_level(Lanes& L, int l, int level) {
+        L.level[l] = static_cast<Real>(level);
+        L.level_scale[l] = static_cast<Real>(times_power_of_two(1.0, level));
+    }
+
+    /// The first 32-bit word of the next Philox block of each lane in `need` (the next draw of
+    /// a PhotonRng on the lane's stream): every lane's at once where Philox runs in the
+    /// vectors, else lane by lane.
+    void next_words(const Lanes& L, const Mask& need, std::uint32_t* word) const {
+        if (none_of(need)) return;
+#if SECCHI_PHILOX_VECTOR
+        alignas(64) std::uint32_t unused[3][width];
+        lanes::philox_words<width>(L.block, L.photon, key_, {word, unused[0], unused[1], unused[2]});
+#else
+        lanes::for_each(need, [&](int l) { word[l] = philox_block(L.block[l], L.photon[l], key_.words)[0]; });
+#endif
+    }
+
+    /// PhotonTracer::roulette on lane l's photon (due where w 2^L falls below the threshold,
+    /// checked again in double), its uniform from `word` as change_lane_level's.
+    void roulette_lane(Lanes& L, int l, std::uint32_t word, EnergyLedger& ledger) const {
+        const double w = static_cast<double>(L.w[l]);
+        if (!this->physics_.roulette_due(times_power_of_two(w, static_cast<int>(L.level[l])))) return;
+        ++L.block[l];
+        const double survival = this->s_.roulette_survival;
+        if (uniform_from_bits(word) < survival) {
+            ledger.roulette_gained += w / survival - w;
+            L.w[l] = static_cast<Real>(w / survival);
+        } else {
+            ledger.roulette_killed += w;
+            L.alive[l] = false;
         }
     }
 
@@ -504,6 +568,8 @@ private:
         // What only some photons meet, in one pass over their lanes in lane order (each kind
         // of event adds to its own ledger entries, so their sums keep the lanes' order); a lane
         // whose photon ended takes the block's next one.
+        alignas(64) std::uint32_t word[width];
+        next_words(L, roulette, word);
         lanes::for_each(at_boundary || truncated || absorbed || roulette, [&](int l) {
             if (at_boundary[l]) {
                 const bool surface = flight.to_surface[l];
@@ -514,7 +580,7 @@ private:
             } else if (absorbed[l]) {
                 L.alive[l] = false;
             } else {
-                per_photon(L, l, [&](PhotonState& p, PhotonRng& rng) { return this->roulette(p, rng, out.ledger); });
+                roulette_lane(L, l, word[l], out.ledger);
             }
             if (!L.alive[l]) start(L, l, next, end, out);
         });
