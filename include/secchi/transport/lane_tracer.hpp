@@ -203,13 +203,20 @@ private:
         return s;
     }
 
+    /// A span as the lanes keep it: inner bounds, level and I(z) in Real.
+    struct LaneSpan {
+        Real lo, hi, level, factor;
+    };
+
     /// A photon split off by depth importance, waiting for a lane: its state, its stream and
-    /// block (split_block), and its map slot (the parent's).
+    /// block (split_block), its map slot and its depth's span (the parent's: a lane taking
+    /// the copy then has no span to look up).
     struct Copy {
         PhotonState p;
         std::uint64_t photon, block;
         bool stores;
         std::uint8_t batch;
+        LaneSpan span;
     };
 
     /// The photons in the lanes, one per lane, as structure of arrays.
@@ -292,6 +299,7 @@ private:
         if (!L.copies.empty()) {
             const Copy c = L.copies.back();
             L.copies.pop_back();
+            set_span(L, l, c.span);
             put(L, l, c.p);
             L.photon[l] = c.photon;
             L.block[l] = c.block;
@@ -351,10 +359,6 @@ private:
     /// (float: 6e-8), so that a depth inside the kept span is stored at a depth of its level.
     static constexpr double span_margin = 1e-6;
 
-    /// A span as the lanes keep it: inner bounds, level and I(z) in Real.
-    struct LaneSpan {
-        Real lo, hi, level, factor;
-    };
     /// Every span of the levels, made once (spans_).
     static std::vector<LaneSpan> lane_spans(const ImportanceLevels& levels) {
         std::vector<LaneSpan> spans;
@@ -368,7 +372,9 @@ private:
 
     /// Lane l's span from its depth (ImportanceLevels::index_of: the levels' guide).
     [[gnu::noinline]] void look_up_span(Lanes& L, int l) const {
-        const LaneSpan& span = spans_[this->levels_.index_of(static_cast<double>(L.z[l]))];
+        set_span(L, l, spans_[this->levels_.index_of(static_cast<double>(L.z[l]))]);
+    }
+    static void set_span(Lanes& L, int l, const LaneSpan& span) {
         L.span_lo[l] = span.lo;
         L.span_hi[l] = span.hi;
         L.span_level[l] = span.level;
@@ -442,8 +448,9 @@ private:
             L.w[l] = static_cast<Real>(times_power_of_two(w, -split));
             PhotonState copy = photon(L, l);
             copy.w = times_power_of_two(w, -split);
+            const LaneSpan span{L.span_lo[l], L.span_hi[l], L.span_level[l], L.span_factor[l]};
             for (std::uint64_t i = 1; i < (std::uint64_t{1} << split); ++i)
-                L.copies.push_back({copy, L.photon[l], split_block(L.block[l], i), L.stores[l], L.batch[l]});
+                L.copies.push_back({copy, L.photon[l], split_block(L.block[l], i), L.stores[l], L.batch[l], span});
             return;
         }
         set_level(L, l, level);
