@@ -5,9 +5,10 @@
 // every photon takes between events (free path, flight, absorption, storage, phase
 // sampling, rotation) runs on SIMD vectors, one photon per lane, through the same rules
 // PhotonTracer applies to one photon (EventPhysics, event_physics.hpp: written once for both);
-// what only some photons meet (surface, bottom, a detector's plane, roulette, the end of a
-// photon and the start of the next) goes through PhotonTracer's own per-photon functions,
-// lane by lane. The two differ only in their schedule and share one signature (the
+// what only some photons meet (surface, bottom, a detector's plane, the end of a photon and
+// the start of the next) goes through PhotonTracer's own per-photon functions, lane by lane;
+// roulette and depth importance's level changes through PhotonTracer's arithmetic lane by
+// lane, their uniforms from the lanes' next Philox blocks computed at once (next_words). The two differ only in their schedule and share one signature (the
 // FirstPassTracer concept).
 //
 // Same problem, same estimates (within their standard errors; tests/test_lane_tracer.cpp),
@@ -21,8 +22,8 @@
 //
 // Depth importance (importance.hpp) as PhotonTracer's: at the start of every step a photon
 // whose depth lies at another level than its own is split or rouletted (PhotonTracer's
-// change_level, lane by lane), its split-off copies queued and taken by the next lanes that
-// come free before new photons are launched; a scattering event is stored with probability
+// change_level_to, lane by lane), its split-off copies queued, each with its depth's span, and
+// taken by the next lanes that come free before new photons are launched; a scattering event is stored with probability
 // w I(z) (copies where w I > 1, lane by lane), I(z) at the record's stored depth; roulette acts
 // on w 2^L. Whether a depth keeps its lane's level is two comparisons per lane with the
 // depths where its level holds (ImportanceLevels::span, kept per lane and narrowed by a
