@@ -455,11 +455,17 @@ private:
             return;
         }
         set_level(L, l, level);
+        survive_or_end(L, l, w, times_power_of_two(1.0, k), word, ledger);  // I_new / I_old < 1
+    }
+
+    /// Russian roulette on lane l's photon of weight w: it survives with probability p (its
+    /// uniform from `word`, the lane's next block), its weight w / p, or ends; the ledger's
+    /// roulette entries as PhotonTracer's.
+    static void survive_or_end(Lanes& L, int l, double w, double p, std::uint32_t word, EnergyLedger& ledger) {
         ++L.block[l];  // the uniform's block
-        const double ratio = times_power_of_two(1.0, k);  // I_new / I_old < 1
-        if (uniform_from_bits(word) < ratio) {
-            ledger.roulette_gained += w / ratio - w;
-            L.w[l] = static_cast<Real>(w / ratio);
+        if (uniform_from_bits(word) < p) {
+            ledger.roulette_gained += w / p - w;
+            L.w[l] = static_cast<Real>(w / p);
         } else {
             ledger.roulette_killed += w;
             L.alive[l] = false;
@@ -489,16 +495,8 @@ private:
     /// checked again in double), its uniform from `word` as change_lane_level's.
     void roulette_lane(Lanes& L, int l, std::uint32_t word, EnergyLedger& ledger) const {
         const double w = static_cast<double>(L.w[l]);
-        if (!this->physics_.roulette_due(times_power_of_two(w, static_cast<int>(L.level[l])))) return;
-        ++L.block[l];
-        const double survival = this->s_.roulette_survival;
-        if (uniform_from_bits(word) < survival) {
-            ledger.roulette_gained += w / survival - w;
-            L.w[l] = static_cast<Real>(w / survival);
-        } else {
-            ledger.roulette_killed += w;
-            L.alive[l] = false;
-        }
+        if (this->physics_.roulette_due(times_power_of_two(w, static_cast<int>(L.level[l]))))
+            survive_or_end(L, l, w, this->s_.roulette_survival, word, ledger);
     }
 
     /// Runs a per-photon event `event(p, rng) -> bool` (false: the photon ends) on lane l's
