@@ -8,8 +8,8 @@
 // what only some photons meet (surface, bottom, a detector's plane, the end of a photon and
 // the start of the next) goes through PhotonTracer's own per-photon functions, lane by lane;
 // roulette and depth importance's level changes through PhotonTracer's arithmetic lane by
-// lane, their uniforms from the lanes' next Philox blocks computed at once (next_words). The two differ only in their schedule and share one signature (the
-// FirstPassTracer concept).
+// lane, their uniforms from the lanes' next Philox blocks computed at once (next_words). The
+// two differ only in their schedule and share one signature (the FirstPassTracer concept).
 //
 // Same problem, same estimates (within their standard errors; tests/test_lane_tracer.cpp),
 // not the same photons: each step draws one Philox block (four uniforms: free path,
@@ -23,15 +23,15 @@
 // Depth importance (importance.hpp) as PhotonTracer's: at the start of every step a photon
 // whose depth lies at another level than its own is split or rouletted (PhotonTracer's
 // change_level_to, lane by lane), its split-off copies queued, each with its depth's span, and
-// taken by the next lanes that come free before new photons are launched; a scattering event is stored with probability
-// w I(z) (copies where w I > 1, lane by lane), I(z) at the record's stored depth; roulette acts
-// on w 2^L. Whether a depth keeps its lane's level is two comparisons per lane with the
-// depths where its level holds (ImportanceLevels::span, kept per lane and narrowed by a
-// relative 1e-6 so that the record's rounded depth shares it: inner_span); a lane outside
-// looks its level up. Without depth importance the step is compiled without any of this. A
-// copy draws from its own stream: the parent's stream from a Philox block derived from the
-// parent's next block and the copy's number (split_block), so that its history does not
-// depend on which lane takes it.
+// taken by the next lanes that come free before new photons are launched; a scattering event
+// is stored with probability w I(z) (copies where w I > 1, lane by lane), I(z) at the record's
+// stored depth; roulette acts on w 2^L. Whether a depth keeps its lane's level is two
+// comparisons per lane with the depths where its level holds (ImportanceLevels::span, kept per
+// lane and narrowed by a relative 1e-6 so that the record's rounded depth shares it:
+// inner_span); a lane outside looks its level up. Without depth importance the step is
+// compiled without any of this. A copy draws from its own stream: the parent's stream from a
+// Philox block derived from the parent's next block and the copy's number (split_block), so
+// that its history does not depend on which lane takes it.
 //
 // Backscatter bias (importance.hpp) as PhotonTracer's, in the vectors: the scattering angle's
 // uniform drawn from the biased density and the weight times 1 / q (BackscatterBiasOf<Real>:
