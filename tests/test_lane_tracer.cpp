@@ -812,6 +812,18 @@ Estimate events_per_photon(const TransportResult<CompactRecord>& r) {
 }  // namespace
 
 namespace {
+/// How closely a lane tracer's ledger (ledger.hpp) must close with weighted photons: every
+/// change of the total weight is booked where it is made (absorption, roulette, backscatter
+/// bias; a split by depth importance keeps it), so to rounding: 1e-9 of the incident weight
+/// in double lanes, as PhotonTracer's; in float lanes the weights are floats and each lane's
+/// absorbed weight is summed in float over at most 64 steps before it joins a double (a
+/// relative 64 x 2^-24 = 3.8e-6 at most): 1e-5.
+template <template <class...> class Tracer>
+constexpr double ledger_bound() {
+    using T = Tracer<HomogeneousWater<HenyeyGreensteinPhase>, CompactRecord>;
+    return std::same_as<typename T::real_type, float> ? 1e-5 : 1e-9;
+}
+
 /// `Tracer` against PhotonTracer: every absorption mode, a Lambertian bottom, Fresnel surface,
 /// roulette, a truncation by scattering order, and tabulated phase functions (Petzold, and
 /// Fournier-Forand through its table).
@@ -837,7 +849,7 @@ void check_agrees_with_photon_tracer() {
         testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
         testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
         CHECK(b.ledger.incident == 1.0);
-        CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : 5e-3));
+        CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : ledger_bound<Tracer>()));
         if (c.max_order) CHECK(b.ledger.truncated > 0.01);
     }
     TransportSettings s;
@@ -986,7 +998,7 @@ void check_depth_importance_agrees(const Phase& phase, AbsorptionMode mode) {
     };
     CHECK(deep(b) > 3 * deep(c));
     CHECK(b.ledger.incident == 1.0);
-    CHECK(std::abs(b.ledger.imbalance()) < 5e-3);
+    CHECK(std::abs(b.ledger.imbalance()) < ledger_bound<Tracer>());
     // Photons rising through the levels meet roulette (PhotonTracer's change_level, lane by
     // lane): far more weight ends there than the low-weight roulette alone takes (about 6 times
     // in these cases; the same without the level changes).
@@ -1046,7 +1058,7 @@ void check_backscatter_bias_agrees(bool with_importance) {
     testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon, against PhotonTracer");
     testing::check_agree(events_per_photon(c), events_per_photon(b), "stored events per photon, against no bias");
     CHECK(b.ledger.incident == 1.0);
-    CHECK(std::abs(b.ledger.imbalance()) < 5e-3);
+    CHECK(std::abs(b.ledger.imbalance()) < ledger_bound<Tracer>());
     // The forward draws' factor 1 / (1 - eps) adds weight at most events (booked as gained).
     CHECK(b.ledger.roulette_gained > 10.0 * c.ledger.roulette_gained + 0.1);
 }
@@ -1129,7 +1141,7 @@ void check_agrees_in_stratified_water() {
         testing::check_agree(a.bottom_ed, b.bottom_ed, "Ed at the bottom");
         testing::check_agree(events_per_photon(a), events_per_photon(b), "stored events per photon");
         CHECK(b.ledger.incident == 1.0);
-        CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : 5e-3));
+        CHECK(std::abs(b.ledger.imbalance()) < (c.mode == AbsorptionMode::analog ? 1e-12 : ledger_bound<Tracer>()));
     }
 }
 }  // namespace

@@ -164,6 +164,7 @@ class LaneTracer : private PhotonTracer<M, Record, Surface, Source, Detector, Bo
 public:
     using typename Base::medium_type, typename Base::record_type, typename Base::surface_type,
         typename Base::source_type, typename Base::detector_type, typename Base::slab_type;
+    using real_type = Real;  ///< the lanes' precision
 
     /// The photons come from `source` (scene/source.hpp).
     LaneTracer(const M& medium, const slab_type& slab, const Surface& surface, const Source& source,
@@ -209,15 +210,26 @@ private:
         Real lo, hi, level, factor;
     };
 
-    /// A photon split off by depth importance, waiting for a lane: its state, its stream and
-    /// block (split_block), its map slot and its depth's span (the parent's: a lane taking
-    /// the copy then has no span to look up).
+    /// A photon split off by depth importance, waiting for a lane: the parent's lane values
+    /// after the split (its weight already divided), its stream and block (split_block), its
+    /// map slot and its depth's span (the parent's: a lane taking the copy then has no span to
+    /// look up). Held as the lanes hold them, a copy goes into a lane without conversions.
+    struct Lanes;
     struct Copy {
-        PhotonState p;
+        Real x, y, z, dx, dy, dz, w, order, level, level_scale;
+        LaneSpan span;
         std::uint64_t photon, block;
         bool stores;
         std::uint8_t batch;
-        LaneSpan span;
+
+        /// Lane l's photon, its stream starting at `first_block`; constructed in the queue
+        /// (a Copy built apart and then copied whole is read back by wide loads from the
+        /// narrower stores that built it: a stall of the store forwarding).
+        Copy(const Lanes& L, int l, std::uint64_t first_block)
+            : x(L.x[l]), y(L.y[l]), z(L.z[l]), dx(L.dx[l]), dy(L.dy[l]), dz(L.dz[l]), w(L.w[l]), order(L.order[l]),
+              level(L.level[l]), level_scale(L.level_scale[l]),
+              span{L.span_lo[l], L.span_hi[l], L.span_level[l], L.span_factor[l]}, photon(L.photon[l]),
+              block(first_block), stores(L.stores[l]), batch(L.batch[l]) {}
     };
 
     /// The photons in the lanes, one per lane, as structure of arrays.
@@ -298,15 +310,8 @@ private:
     /// nothing, and every per-lane action skips it.
     void start(Lanes& L, int l, Launches& next, std::uint64_t end, detail::BlockResult<Record>& out) const {
         if (!L.copies.empty()) {
-            const Copy c = L.copies.back();
+            take_copy(L, l, L.copies.back());
             L.copies.pop_back();
-            set_span(L, l, c.span);
-            put(L, l, c.p);
-            L.photon[l] = c.photon;
-            L.block[l] = c.block;
-            L.stores[l] = c.stores;
-            L.batch[l] = c.batch;
-            L.alive[l] = true;
             return;
         }
         while (next.used < next.count || next.first + next.count < end) {
@@ -329,6 +334,21 @@ private:
         L.stores[l] = false;
         L.batch[l] = 0;
         L.alive[l] = false;
+    }
+
+    /// Lane l takes copy c (as put() of its photon would: a copy's depth lies in its span
+    /// unless it lay within span_margin of a bound when split; change_levels).
+    void take_copy(Lanes& L, int l, const Copy& c) const {
+        L.x[l] = c.x, L.y[l] = c.y, L.z[l] = c.z;
+        L.dx[l] = c.dx, L.dy[l] = c.dy, L.dz[l] = c.dz;
+        L.w[l] = c.w, L.order[l] = c.order, L.level[l] = c.level, L.level_scale[l] = c.level_scale;
+        set_span(L, l, c.span);
+        if (!(c.z >= c.span.lo && c.z < c.span.hi)) look_up_span(L, l);
+        L.photon[l] = c.photon;
+        L.block[l] = c.block;
+        L.stores[l] = c.stores;
+        L.batch[l] = c.batch;
+        L.alive[l] = true;
     }
 
     static PhotonState photon(const Lanes& L, int l) {
@@ -447,11 +467,8 @@ private:
             const int split = std::min(k, 20);
             set_level(L, l, static_cast<int>(L.level[l]) + split);
             L.w[l] = static_cast<Real>(times_power_of_two(w, -split));
-            PhotonState copy = photon(L, l);
-            copy.w = times_power_of_two(w, -split);
-            const LaneSpan span{L.span_lo[l], L.span_hi[l], L.span_level[l], L.span_factor[l]};
             for (std::uint64_t i = 1; i < (std::uint64_t{1} << split); ++i)
-                L.copies.push_back({copy, L.photon[l], split_block(L.block[l], i), L.stores[l], L.batch[l], span});
+                L.copies.emplace_back(L, l, split_block(L.block[l], i));
             return;
         }
         set_level(L, l, level);

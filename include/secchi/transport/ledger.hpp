@@ -2,11 +2,13 @@
 // Energy accounting of the first pass: every photon's weight ends in exactly one account,
 // so incident = surface_reflected + escaped_up + to_space + absorbed_air + absorbed +
 // absorbed_bottom + absorbed_objects + transmitted + truncated + roulette_killed -
-// roulette_gained. In analog mode the roulette terms are zero and the balance is exact per
-// photon; with Russian roulette it holds in expectation. Under a source that sends light back
-// (a traced atmosphere, scene/atmosphere.hpp) light going up from the surface is handed to it,
-// so it ends in to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under
-// one that does not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
+// roulette_gained. In analog mode the roulette terms are zero; with weighted photons every
+// change of the total weight (Russian roulette, backscatter bias; a split keeps it) is booked
+// where it is made, so the balance holds to rounding either way (roulette_gained and
+// roulette_killed are equal in expectation only). Under a source that sends light back (a
+// traced atmosphere, scene/atmosphere.hpp) light going up from the surface is handed to it, so
+// it ends in to_space or absorbed_air, and surface_reflected and escaped_up stay 0; under one
+// that does not (a sun and a sky above the surface) to_space and absorbed_air stay 0.
 #include "secchi/core/config.hpp"
 #include <array>
 #include <cstddef>
