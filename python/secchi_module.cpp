@@ -212,7 +212,7 @@ PhotonMapHandle trace_map(const WaterChoice& water, const ProblemArgs& args) {
         const auto& shared = water.material->water;
         py::gil_scoped_release release;
         std::vector<secchi::ConeAveragedPhase<Phase>> cones;
-        for (const auto& p : shared->phases()) cones.emplace_back(p, cfg.omega, cfg.cone_peak);
+        for (const auto& p : shared->phases()) cones.emplace_back(p, cfg.omega, cfg.cone_peak, secchi::cone_table(cfg));
         const secchi::StratifiedRayOptics optics(*shared, cones);
         handle.queries = std::make_unique<MapQueries<std::remove_cvref_t<decltype(optics)>>>(
             secchi::trace_photon_map<MapStore>(*shared, cfg, radius), shared, optics, cfg);
@@ -220,8 +220,8 @@ PhotonMapHandle trace_map(const WaterChoice& water, const ProblemArgs& args) {
         const Phase phase = water.phase_function();
         py::gil_scoped_release release;
         const auto medium = Water::from_albedo(cfg.attenuation, cfg.albedo, phase);
-        const secchi::HomogeneousRayOptics optics(secchi::ConeAveragedPhase(phase, cfg.omega, cfg.cone_peak),
-                                                  medium.attenuation(), medium.scattering());
+        const secchi::ConeAveragedPhase cone(phase, cfg.omega, cfg.cone_peak, secchi::cone_table(cfg));
+        const secchi::HomogeneousRayOptics optics(cone, medium.attenuation(), medium.scattering());
         handle.queries = std::make_unique<MapQueries<secchi::HomogeneousRayOptics>>(
             secchi::trace_photon_map<MapStore>(medium, cfg, radius), nullptr, optics, cfg);
     }

@@ -294,6 +294,28 @@ TEST_CASE("The second pass's estimates over many rays are bit-identical for 1 an
     CHECK(c.se == d.se);
 }
 
+TEST_CASE("A cone-averaged phase function's table is the same for 1 and 2 threads, its loop not reported", "[threads]") {
+    // A table's values are integrals each of its own (ConeTable): the same bits on any thread
+    // count. A set-up loop, it does not show as one of a program's long loops.
+    struct CountingSink final : ProgressSink {
+        std::atomic<int> loops{0};
+        void loop_started(std::size_t) override { ++loops; }
+        void advanced() override {}
+        void loop_finished() override {}
+    } sink;
+    const ProgressScope scope(&sink);
+    const HenyeyGreensteinPhase hg(0.9);
+    const ConeTable small{.n_log = 64, .n_uniform = 128};
+    ConeTable two = small;
+    two.threads = 2;
+    const ConeAveragedPhase a(hg, 0.005, ConePeak::transmitted, small), b(hg, 0.005, ConePeak::transmitted, two);
+    REQUIRE(a.breakpoints() == b.breakpoints());
+    CHECK(a.breakpoints().size() > 192);
+    for (double psi : a.breakpoints()) REQUIRE(a.eval(std::cos(psi)) == b.eval(std::cos(psi)));
+    CHECK(a.transmitted_fraction() == b.transmitted_fraction());
+    CHECK(sink.loops == 0);
+}
+
 TEST_CASE("The map refuses fewer batches than its photons have, and the estimator too short a sum array") {
     const HenyeyGreensteinPhase hg(0.9);
     const auto water = HomogeneousWater<HenyeyGreensteinPhase>::from_albedo(1.0, 0.9, hg);

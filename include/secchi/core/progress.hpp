@@ -1,6 +1,6 @@
 #pragma once
 // Progress of the library's long loops (first-pass photon blocks, radiance estimates over rays,
-// image rows): parallel_for (transport/parallel.hpp) reports each finished index of its
+// image rows): parallel_for (core/parallel.hpp) reports each finished index of its
 // outermost loop to the ProgressSink installed for the process, if any. Reporting observes
 // only: it never changes what a loop computes, and with no sink installed it costs one atomic
 // load per loop. A display of it is io/progress.hpp's ProgressDisplay.
@@ -39,11 +39,13 @@ private:
     ProgressSink* previous_;
 };
 
-/// One loop of `total` indices as seen by the installed sink (none for a nested loop).
+/// One loop of `total` indices as seen by the installed sink (none for a nested loop, or for
+/// one not `reported`).
 class ProgressLoop {
 public:
-    explicit ProgressLoop(std::size_t total)
-        : sink_(detail::inside_parallel_loop ? nullptr : detail::progress_sink.load(std::memory_order_acquire)) {
+    explicit ProgressLoop(std::size_t total, bool reported = true)
+        : sink_(!reported || detail::inside_parallel_loop ? nullptr
+                                                          : detail::progress_sink.load(std::memory_order_acquire)) {
         if (sink_) sink_->loop_started(total);
     }
     ProgressLoop(const ProgressLoop&) = delete;

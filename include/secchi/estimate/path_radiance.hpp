@@ -41,7 +41,7 @@
 #include "secchi/optics/medium.hpp"
 #include "secchi/optics/phase/chord_table.hpp"
 #include "secchi/transport/record_flux.hpp"
-#include "secchi/transport/parallel.hpp"
+#include "secchi/core/parallel.hpp"
 #include <algorithm>
 #include <array>
 #include <cstddef>

@@ -47,7 +47,7 @@
 #include "secchi/estimate/path_radiance.hpp"
 #include "secchi/map/photon_map.hpp"
 #include "secchi/scene/fresnel.hpp"
-#include "secchi/transport/parallel.hpp"
+#include "secchi/core/parallel.hpp"
 #include <array>
 #include <cmath>
 #include <cstdint>

@@ -28,7 +28,7 @@
 #include "secchi/estimate/radiance.hpp"
 #include "secchi/estimate/render.hpp"
 #include "secchi/transport/irradiance_planes.hpp"
-#include "secchi/transport/parallel.hpp"
+#include "secchi/core/parallel.hpp"
 #include <array>
 #include <cmath>
 #include <cstdint>

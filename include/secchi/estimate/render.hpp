@@ -14,7 +14,7 @@
 #include "secchi/core/rng.hpp"
 #include "secchi/estimate/camera.hpp"
 #include "secchi/estimate/radiance.hpp"
-#include "secchi/transport/parallel.hpp"
+#include "secchi/core/parallel.hpp"
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -66,7 +66,7 @@
 #include "secchi/core/stats.hpp"
 #include "secchi/estimate/radiance.hpp"
 #include "secchi/map/photon_map.hpp"
-#include "secchi/transport/parallel.hpp"
+#include "secchi/core/parallel.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstddef>

@@ -539,12 +539,15 @@ MappedWater<Store> trace_photon_map(const M& medium, const PlaneParallelConfig& 
                                                                       std::forward<StoreArgs>(store_args)...)};
 }
 
+/// The cone-averaged phase functions' tables, computed on the problem's threads.
+inline ConeTable cone_table(const PlaneParallelConfig& cfg) { return {.threads = cfg.transport.threads}; }
+
 /// Homogeneous water of attenuation cfg.attenuation and albedo cfg.albedo with one phase function.
 /// Spread over processes by `split` (PassSplit), the result is complete on rank 0.
 template <PhaseFunction Phase, PhotonRecord Record = CompactRecord, PassSplit Split = detail::SingleProcess>
 PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallelConfig& cfg, const Split& split = {}) {
     const auto medium = HomogeneousWater<Phase>::from_albedo(cfg.attenuation, cfg.albedo, phase);
-    const ConeAveragedPhase<Phase> cone(phase, cfg.omega, cfg.cone_peak);
+    const ConeAveragedPhase<Phase> cone(phase, cfg.omega, cfg.cone_peak, cone_table(cfg));
     auto out = solve_plane_parallel_in<Record>(medium, HomogeneousRayOptics(cone, medium.attenuation(), medium.scattering()),
                                                cfg, split);
     out.phase_name = phase.name();
@@ -555,7 +558,8 @@ PlaneParallelResult solve_plane_parallel(const Phase& phase, const PlaneParallel
 /// Depth-varying water: each scattering component's phase function averaged over cfg.omega.
 template <PhotonRecord Record = CompactRecord, PhaseFunction... Phases>
 PlaneParallelResult solve_stratified(const StratifiedWater<Phases...>& water, const PlaneParallelConfig& cfg) {
-    const auto cones = water.transform_phases([&](const auto& p) { return ConeAveragedPhase(p, cfg.omega, cfg.cone_peak); });
+    const auto cones =
+        water.transform_phases([&](const auto& p) { return ConeAveragedPhase(p, cfg.omega, cfg.cone_peak, cone_table(cfg)); });
     const StratifiedRayOptics optics(water, cones);
     auto out = solve_plane_parallel_in<Record>(water, optics, cfg);
     out.phase_name = "mixture";

@@ -35,7 +35,7 @@
 #include "secchi/transport/event_physics.hpp"
 #include "secchi/transport/irradiance_planes.hpp"
 #include "secchi/transport/ledger.hpp"
-#include "secchi/transport/parallel.hpp"
+#include "secchi/core/parallel.hpp"
 #include "secchi/transport/record_flux.hpp"
 #include "secchi/transport/settings.hpp"
 #include <algorithm>

@@ -43,6 +43,7 @@
 
 #include "secchi/core/error.hpp"
 #include "secchi/core/names.hpp"
+#include "secchi/core/parallel.hpp"
 #include "secchi/optics/phase/phase_function.hpp"
 
 namespace secchi::SECCHI_ISA {
@@ -62,23 +63,35 @@ inline const std::vector<NamedValue<ConePeak>>& cone_peak_names() {
 
 inline ConePeak parse_cone_peak(const std::string& name) { return parse_named(cone_peak_names(), "cone peak", name); }
 
+/// How ConeAveragedPhase's table of pbar is built: its grid (n_log angles log-spaced up to 10
+/// degrees and n_uniform uniform beyond, besides the angles about the cone's edge) and the
+/// threads that compute its values (each value its own integral: the same for any count).
+/// With the default grid a table takes about 6,700 integrals: 0.2-0.4 s on one core.
+struct ConeTable {
+    std::size_t n_log = 2048, n_uniform = 4096;
+    unsigned threads = 1;
+};
+
 template <PhaseFunction P>
 class ConeAveragedPhase {
 public:
     /// omega: the cone's solid angle (sr), in (0, 4 pi).
-    ConeAveragedPhase(const P& p, double omega, ConePeak peak = ConePeak::transmitted, std::size_t n_log = 2048,
-                      std::size_t n_uniform = 4096)
+    ConeAveragedPhase(const P& p, double omega, ConePeak peak = ConePeak::transmitted, ConeTable table = {})
         : omega_(omega), peak_(peak), name_(std::string("cone_average(").append(p.name()).append(")")) {
         require(omega > 0.0 && omega < four_pi, "omega", omega, "the cone's solid angle must lie in (0, 4 pi) sr");
-        require(n_log >= 2 && n_uniform >= 2, "grid size", std::min(n_log, n_uniform), "needs at least 2 points");
+        require(table.n_log >= 2 && table.n_uniform >= 2, "grid size", std::min(table.n_log, table.n_uniform),
+                "needs at least 2 points");
         alpha_ = 2.0 * std::asin(std::sqrt(omega / four_pi));  // 1 - cos alpha = omega / (2 pi)
-        psi_ = make_grid(n_log, n_uniform);
+        psi_ = make_grid(table.n_log, table.n_uniform);
         auto bps = breakpoints_of(p);
         bps.push_back(alpha_);
         if (peak_ == ConePeak::transmitted)
             transmitted_ = integrate_solid_angle([&](double g) { return static_cast<double>(p.eval(std::cos(g))); },
                                                  0.0, alpha_, bps);
-        for (double psi : psi_) value_.push_back(average(p, bps, psi));
+        value_.assign(psi_.size(), 0.0);
+        parallel_for(
+            psi_.size(), table.threads, [&](std::size_t i) { value_[i] = average(p, bps, psi_[i]); },
+            LoopProgress::unreported);
     }
 
     /// pbar at cos_psi (1/sr), linear interpolation in psi.
@@ -129,12 +142,13 @@ private:
     /// Fraction L(gamma) / (2 pi) of the circle at angle gamma from the photon direction that
     /// lies inside the cone whose axis is at angle psi. cos alpha - cos psi cos gamma is written
     /// as sin psi sin gamma - 2 sin((alpha + d)/2) sin((alpha - d)/2), d = psi - gamma.
-    double inside_fraction(double psi, double gamma) const {
+    /// (sin_psi: sin(psi), the same for every gamma of one psi.)
+    double inside_fraction(double psi, double sin_psi, double gamma) const {
         if (gamma <= alpha_ - psi || gamma >= two_pi - psi - alpha_) return 1.0;
         if (gamma >= psi + alpha_ || gamma <= psi - alpha_) return 0.0;
         const double d = psi - gamma;
         const double x = 1.0 - 2.0 * std::sin(0.5 * (alpha_ + d)) * std::sin(0.5 * (alpha_ - d)) /
-                                   (std::sin(psi) * std::sin(gamma));
+                                   (sin_psi * std::sin(gamma));
         return std::acos(std::clamp(x, -1.0, 1.0)) / pi;
     }
 
@@ -151,8 +165,9 @@ private:
             const double r = (k2 - k1) * std::ldexp(1.0, -j);
             bps.insert(bps.end(), {k1 + r, k2 - r});
         }
+        const double sin_psi = std::sin(psi);
         const auto integrand = [&](double gamma) {
-            return static_cast<double>(p.eval(std::cos(gamma))) * inside_fraction(psi, gamma);
+            return static_cast<double>(p.eval(std::cos(gamma))) * inside_fraction(psi, sin_psi, gamma);
         };
         return integrate_solid_angle(integrand, a, b, bps) / omega_;
     }

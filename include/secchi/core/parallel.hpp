@@ -2,7 +2,9 @@
 // A minimal parallel loop: `threads` workers take indices 0..n-1 from an atomic counter.
 // Callers write results into per-index slots and merge them in index order, so the result
 // never depends on which thread ran which index. The outermost loop's finished indices are
-// reported to the installed progress sink (core/progress.hpp), which only observes.
+// reported to the installed progress sink (core/progress.hpp), which only observes, unless
+// the loop is LoopProgress::unreported (a short set-up loop, such as a table's values, that
+// would otherwise count as one of a program's long loops).
 #include "secchi/core/config.hpp"
 #include "secchi/core/progress.hpp"
 #include <atomic>
@@ -14,12 +16,15 @@
 
 namespace secchi::SECCHI_ISA {
 
+/// Whether a loop's progress goes to the installed progress sink.
+enum class LoopProgress { reported, unreported };
+
 template <class F>
-void parallel_for(std::size_t n, unsigned threads, F&& body) {
+void parallel_for(std::size_t n, unsigned threads, F&& body, LoopProgress report = LoopProgress::reported) {
     std::atomic<std::size_t> next{0};
     std::exception_ptr error;
     std::mutex error_mutex;
-    const ProgressLoop progress(n);
+    const ProgressLoop progress(n, report == LoopProgress::reported);
     auto worker = [&] {
         const bool nested = detail::inside_parallel_loop;
         detail::inside_parallel_loop = true;
