@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
         std::vector<StratifiedRayOptics<Water>> optics;
         for (const auto& water : media) {
             std::vector<Cone> cones;
-            for (const auto& p : water.phases()) cones.emplace_back(p, 0.005, ConePeak::transmitted);
+            for (const auto& p : water.phases()) cones.emplace_back(p, 0.005, ConePeak::transmitted, ConeTable{.threads = threads});
             optics.emplace_back(water, cones);
         }
 
