@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
     return run_program(argc, argv, "littoral_scenes", usage, [&] {
         const CommandLine cl(argc, argv, {"photons", "size", "spp", "threads", "out"});
         const auto threads = cl.threads(2);
+        const ConeTable tables{.threads = threads};  // the cone-averaged phase functions' tables
         const std::uint64_t photons = cl.count("photons", 2'000'000, 1000, 10'000'000'000);
         const int size = static_cast<int>(cl.count("size", 200, 1, 8192));
         const auto spp = static_cast<unsigned>(cl.count("spp", 2, 1, 4096));
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
             save(project_photon_map(map, bottom, 256, 330, -amplitude), "caustics_projection", "Y");
             save(bins_image(bins), "caustics_bottom", "Ed");
             const RadianceEstimator est(map, VoiCylinder(-amplitude, bottom),
-                                        HomogeneousRayOptics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(),
+                                        HomogeneousRayOptics(ConeAveragedPhase(water.phase(), 0.005, ConePeak::transmitted, tables), water.attenuation(),
                                                              water.scattering()),
                                         radius);
             const SceneRadianceEstimator scene(est, NoGeometry{}, bins);
@@ -149,7 +150,7 @@ int main(int argc, char** argv) {
             const PhotonMap map = PhotonMap<Store>::from_first_pass(std::move(first), MapScene{slab, FlatSurface(1.34), SkyLight::of(sun)}, radius);
             save(bins_image(bins), "shadow_bottom", "Ed");
             const RadianceEstimator est(map, VoiCylinder(0.0, bottom),
-                                        HomogeneousRayOptics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(),
+                                        HomogeneousRayOptics(ConeAveragedPhase(water.phase(), 0.005, ConePeak::transmitted, tables), water.attenuation(),
                                                              water.scattering()),
                                         radius);
             const SceneRadianceEstimator scene(est, box, bins, surface);
@@ -187,7 +188,7 @@ int main(int argc, char** argv) {
             save(top, "terrain_irradiance", "E");
             const PhotonMap map = PhotonMap<Store>::from_first_pass(std::move(first), MapScene{slab, std::nullopt, SkyLight::of(sun)}, radius);
             const RadianceEstimator est(map, VoiCylinder(-amplitude, floor),
-                                        HomogeneousRayOptics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(),
+                                        HomogeneousRayOptics(ConeAveragedPhase(water.phase(), 0.005, ConePeak::transmitted, tables), water.attenuation(),
                                                              water.scattering()),
                                         radius);
             const SceneRadianceEstimator scene(est, terrain, {}, surface);

@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
         const Radius radius(0.05);
         const auto t0 = std::chrono::steady_clock::now();
         const auto mapped = trace_photon_map<VoiGridStore<CompactRecord>>(water, cfg, radius);
-        const HomogeneousRayOptics optics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(), water.scattering());
+        const ConeAveragedPhase cone(water.phase(), 0.005, ConePeak::transmitted, cone_table(cfg));
+        const HomogeneousRayOptics optics(cone, water.attenuation(), water.scattering());
         const RadianceEstimator est(mapped.map, VoiCylinder(0.0, cfg.bottom.depth()), optics, radius);
         std::printf("map: %zu photons stored in %.1f s\n", mapped.map.store().records().size(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

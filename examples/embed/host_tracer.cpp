@@ -417,7 +417,8 @@ int main(int argc, char** argv) {
         const auto mapped = trace_photon_map<VoiGridStore<CompactRecord>>(water, cfg, radius);
         // The collection cone of 0.005 sr: the scattering within it counts as unscattered, so
         // the ray's transmittance is exp(-c' t) with c' = c - b f, f Petzold's share in the cone.
-        const HomogeneousRayOptics optics(ConeAveragedPhase(water.phase(), 0.005), water.attenuation(), water.scattering());
+        const ConeAveragedPhase cone(water.phase(), 0.005, ConePeak::transmitted, cone_table(cfg));
+        const HomogeneousRayOptics optics(cone, water.attenuation(), water.scattering());
         const RadianceEstimator est(mapped.map, VoiCylinder(0.0, bottom_depth), optics, radius);
         std::printf("map: %zu scattering events stored in %.1f s\n", mapped.map.store().records().size(), seconds_since(t0));
 
