@@ -343,7 +343,7 @@ private:
         L.dx[l] = c.dx, L.dy[l] = c.dy, L.dz[l] = c.dz;
         L.w[l] = c.w, L.order[l] = c.order, L.level[l] = c.level, L.level_scale[l] = c.level_scale;
         set_span(L, l, c.span);
-        if (!(c.z >= c.span.lo && c.z < c.span.hi)) look_up_span(L, l);
+        if (!in_span(L, l)) look_up_span(L, l);
         L.photon[l] = c.photon;
         L.block[l] = c.block;
         L.stores[l] = c.stores;
@@ -372,7 +372,7 @@ private:
             L.level[l] = level;
             L.level_scale[l] = static_cast<Real>(times_power_of_two(1.0, p.level));
         }
-        if (!(L.z[l] >= L.span_lo[l] && L.z[l] < L.span_hi[l])) look_up_span(L, l);
+        if (!in_span(L, l)) look_up_span(L, l);
     }
 
     /// How much narrower than ImportanceLevels::span a lane's span is kept, relative to the
@@ -402,6 +402,8 @@ private:
         L.span_factor[l] = span.factor;
     }
 
+    /// Whether lane l's depth lies in its kept span.
+    static bool in_span(const Lanes& L, int l) { return L.z[l] >= L.span_lo[l] && L.z[l] < L.span_hi[l]; }
     /// Whether each lane's depth lies in its kept span.
     static Mask in_span(const Lanes& L) {
         const Reals z(L.z, aligned);
