@@ -199,6 +199,20 @@ int main(int argc, char** argv) {
             events_per_second<FournierForandPhase, FloatLaneTracer>(ff, 100'000 * scale, repeats);
 #endif
 
+        // Building a cone-averaged phase table as every radiance estimator does once (omega =
+        // 0.005 sr, the peak transmitted, one thread; optics/phase/cone_average.hpp): seconds,
+        // median of the repeats.
+        const auto cone_table_seconds = [&](const auto& phase) {
+            std::vector<double> t;
+            double sink = 0.0;
+            for (int r = 0; r < repeats; ++r)
+                t.push_back(seconds([&] { sink += ConeAveragedPhase(phase, 0.005).eval(0.5); }));
+            if (!(sink > 0.0)) throw std::logic_error("cone table");
+            return median(t);
+        };
+        fig["cone_table_seconds_petzold"] = cone_table_seconds(petzold);
+        fig["cone_table_seconds_rayleigh"] = cone_table_seconds(RayleighPhase{});
+
         // Photons per second for problems 1a, 2a and 2b (sun at 60 deg, n = 1.34, continuous
         // absorption as in the conformance runs), on 1 and 2 threads.
         const std::uint64_t n2a = 200'000 * scale;

@@ -404,6 +404,49 @@ TEST_CASE("cone average of the Petzold function") {
     }
 }
 
+TEST_CASE("cone average where a singular peak meets the cone's edge, against a brute-force quadrature") {
+    // The trapezoid reading of Petzold's table is a power law down to 0 (p ~ psi^-1.35); with
+    // the peak averaged, for psi within a few 1e-6 rad of alpha the partial circles about the
+    // photon's direction start where p is largest and L(gamma) has its square-root end. The
+    // reference: the same 1-D integral over gamma (circles wholly inside the cone, then those
+    // crossing its edge) on 1,600 panels graded geometrically (ratio 2^(1/16)) towards both
+    // square-root ends, at the table's own nodes (no interpolation).
+    const double omega = 0.005;
+    const TabulatedPhase p = petzold_m93(PetzoldReading::trapezoid);
+    const ConeAveragedPhase<TabulatedPhase> cone(p, omega, ConePeak::averaged);
+    const double alpha = cone.half_angle();
+    const auto reference = [&](double psi) {
+        const double k1 = std::abs(psi - alpha), k2 = psi + alpha, sin_psi = std::sin(psi);
+        const auto inside = [&](double g) {  // the share of the circle at gamma inside the cone
+            const double d = psi - g;
+            const double x = 1.0 - 2.0 * std::sin(0.5 * (alpha + d)) * std::sin(0.5 * (alpha - d)) / (sin_psi * std::sin(g));
+            return std::acos(std::clamp(x, -1.0, 1.0)) / pi;
+        };
+        std::vector<double> edges{k1, k2};
+        for (int j = 1; j <= 800; ++j)
+            for (double e : {k1 + (k2 - k1) * std::pow(2.0, -j / 16.0), k2 - (k2 - k1) * std::pow(2.0, -j / 16.0)})
+                edges.push_back(e);
+        for (double x : p.breakpoints())
+            if (x > k1 && x < k2) edges.push_back(x);
+        std::sort(edges.begin(), edges.end());
+        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+        const double crossing = detail::integrate_panels(
+            [&](double g) { return two_pi * p.eval(std::cos(g)) * inside(g) * std::sin(g); }, edges);
+        const double full = psi < alpha ? integrate_solid_angle([&](double g) { return double(p.eval(std::cos(g))); },
+                                                                0.0, alpha - psi, p.breakpoints())
+                                        : 0.0;
+        return (full + crossing) / omega;
+    };
+    int nodes = 0;
+    for (double psi : cone.breakpoints()) {
+        if (std::abs(psi - alpha) < 1e-7 || std::abs(psi - alpha) > 1e-5) continue;  // (below 1e-7: the power-law tail)
+        INFO("psi - alpha = " << psi - alpha << " rad");
+        CHECK(cone.eval(std::cos(psi)) == Approx(reference(psi)).epsilon(1e-6));
+        ++nodes;
+    }
+    CHECK(nodes > 100);
+}
+
 TEST_CASE("canonical Petzold: all 55 nodes, p linear in angle, flat below 0.1 deg, normalised (canonical_problems.md)") {
     using namespace secchi;
     const auto p = petzold_m93();
