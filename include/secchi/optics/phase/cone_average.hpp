@@ -68,8 +68,8 @@ inline ConePeak parse_cone_peak(const std::string& name) { return parse_named(co
 /// degrees and n_uniform uniform beyond, besides the angles about the cone's edge) and the
 /// threads that compute its values (each value its own integral: the same for any count).
 /// The default grid has about 6,700 angles, each an integral of about 110 evaluations of the
-/// phase function (about 700 with ConePeak::averaged, whose angles inside the cone also
-/// integrate the full circles about the photon's direction).
+/// phase function (about 230 with ConePeak::averaged, whose integrals near the forward
+/// direction reach into the peak and take its log-spaced panels).
 struct ConeTable {
     std::size_t n_log = 2048, n_uniform = 4096;
     unsigned threads = 1;
@@ -201,11 +201,10 @@ private:
     /// integrand is smooth in u, and Gauss-Legendre on panels of u converges fast. The panels'
     /// edges: u_panels equal steps of u, and the images of the phase function's breakpoints
     /// and of the standard angle grid's log-spaced part (below psi_log, where the peak of a
-    /// forward-peaked p lies when psi is close to alpha). Against the 62 geometrically graded
-    /// panels per angle this replaced, the tables agree to 1e-11 (HG, Rayleigh, both Petzold
-    /// readings, omega 1e-4 to 1 sr) but within 1e-5 rad of psi = alpha with the peak averaged,
-    /// where p's singular peak meets the square-root end and the graded panels erred by up to
-    /// 1e-3 (a brute-force quadrature on 800 panels agrees with this one to 1e-7).
+    /// forward-peaked p lies when psi is close to alpha). Accuracy: the exact cap averages of
+    /// isotropic and Rayleigh functions (Funk-Hecke) to 5e-11 relative for omega >= 1e-4 sr
+    /// (test_phase checks 1e-9); where a power-law peak of p meets the square-root end (psi
+    /// within 1e-5 rad of alpha, the peak averaged), a brute-force quadrature to 1e-7 (test_phase).
     double partial_circles(const P& p, const std::vector<double>& phase_bps, double psi, double k1, double k2,
                            double lowest) const {
         const double span = k2 - k1, sin_psi = std::sin(psi);
