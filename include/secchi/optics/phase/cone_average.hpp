@@ -89,8 +89,7 @@ public:
         auto bps = breakpoints_of(p);
         bps.push_back(alpha_);
         if (peak_ == ConePeak::transmitted)
-            transmitted_ = integrate_solid_angle([&](double g) { return static_cast<double>(p.eval(std::cos(g))); },
-                                                 0.0, alpha_, bps);
+            transmitted_ = integrate_solid_angle(density_of(p), 0.0, alpha_, bps);
         const std::vector<double> inner = full_circles(p, bps);
         value_.assign(psi_.size(), 0.0);
         parallel_for(
@@ -156,6 +155,11 @@ private:
         return std::acos(std::clamp(x, -1.0, 1.0)) / pi;
     }
 
+    /// p as a function of the angle gamma (radians), in double.
+    static auto density_of(const P& p) {
+        return [&p](double gamma) { return static_cast<double>(p.eval(std::cos(gamma))); };
+    }
+
     /// For each angle psi_i of the grid, 2 pi int p(gamma) sin(gamma) dgamma over the circles
     /// about the photon's direction that lie wholly inside the cone, gamma in [lowest,
     /// alpha - psi_i] (lowest = alpha where the peak is transmitted: then none). One pass
@@ -164,7 +168,7 @@ private:
     std::vector<double> full_circles(const P& p, const std::vector<double>& phase_bps) const {
         std::vector<double> full(psi_.size(), 0.0);
         if (peak_ == ConePeak::transmitted) return full;
-        const auto density = [&](double gamma) { return static_cast<double>(p.eval(std::cos(gamma))); };
+        const auto density = density_of(p);
         double sum = 0.0, from = 0.0;
         for (std::size_t i = psi_.size(); i-- > 0;) {
             if (!(psi_[i] < alpha_)) continue;
@@ -187,8 +191,7 @@ private:
         double sum = inner;
         const double back = two_pi - psi - alpha_;
         if (back < pi)
-            sum += integrate_solid_angle([&](double gamma) { return static_cast<double>(p.eval(std::cos(gamma))); },
-                                         std::max(back, lowest), pi, phase_bps);
+            sum += integrate_solid_angle(density_of(p), std::max(back, lowest), pi, phase_bps);
         const double k1 = std::abs(psi - alpha_), k2 = std::min(psi + alpha_, back);
         if (k2 > std::max(k1, lowest)) sum += partial_circles(p, phase_bps, psi, k1, k2, lowest);
         return sum / omega_;
@@ -215,9 +218,7 @@ private:
         // alpha) is integrate_solid_angle's power-law tail of p L, as elsewhere.
         double tail = 0.0, from = std::max(k1, lowest);
         if (from < detail::psi_min) {
-            const auto density = [&](double gamma) {
-                return static_cast<double>(p.eval(std::cos(gamma))) * inside_fraction(psi, sin_psi, gamma);
-            };
+            const auto density = [&](double gamma) { return density_of(p)(gamma) * inside_fraction(psi, sin_psi, gamma); };
             const double to = std::min(k2, detail::psi_min);
             tail = detail::small_angle_tail(density, to) - detail::small_angle_tail(density, from);
             from = to;
@@ -235,7 +236,7 @@ private:
         edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
         const auto integrand = [&](double u) {
             const double s = std::sin(0.5 * u), gamma = k1 + span * s * s;
-            return two_pi * static_cast<double>(p.eval(std::cos(gamma))) * inside_fraction(psi, sin_psi, gamma) *
+            return two_pi * density_of(p)(gamma) * inside_fraction(psi, sin_psi, gamma) *
                    std::sin(gamma) * 0.5 * span * std::sin(u);
         };
         return tail + detail::integrate_panels(integrand, edges);
